@@ -1,0 +1,333 @@
+#include "config/run_options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <yaml-cpp/yaml.h>
+
+namespace capsim {
+namespace {
+
+struct Range {
+  double lo, hi;
+  bool lo_open, hi_open;
+  bool contains(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+};
+
+std::string format_number(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string range_text(Range r, bool integer) {
+  std::string kind = integer ? "an integer in " : "a number in ";
+  return kind + (r.lo_open ? "(" : "[") + format_number(r.lo) + ", " +
+         format_number(r.hi) + (r.hi_open ? ")" : "]");
+}
+
+// One config key: how to read it into RunOptions, how to print it back, what it means.
+struct Param {
+  std::string key, allowed, help;
+  std::function<void(RunOptions&, const std::string&)> set;
+  std::function<std::string(const RunOptions&)> get;
+};
+
+[[noreturn]] void bad_value(const std::string& key, const std::string& allowed,
+                            const std::string& value) {
+  throw ConfigError(key + ": must be " + allowed + ", got '" + value + "'");
+}
+
+double parse_double(const std::string& s, bool& ok) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (...) {
+    ok = false;
+    return 0;
+  }
+  ok = used == s.size() && std::isfinite(v);
+  return v;
+}
+
+Param real(const std::string& key, Range r, std::function<double&(RunOptions&)> ref,
+           const std::string& help) {
+  std::string allowed = range_text(r, false);
+  return {key, allowed, help,
+          [=](RunOptions& o, const std::string& s) {
+            bool ok;
+            double v = parse_double(s, ok);
+            if (!ok || !r.contains(v))
+              bad_value(key, allowed, s);
+            ref(o) = v;
+          },
+          [=](const RunOptions& o) {
+            return format_number(ref(const_cast<RunOptions&>(o)));
+          }};
+}
+
+Param integer(const std::string& key, Range r, std::function<int&(RunOptions&)> ref,
+              const std::string& help) {
+  std::string allowed = range_text(r, true);
+  return {key, allowed, help,
+          [=](RunOptions& o, const std::string& s) {
+            bool ok;
+            double v = parse_double(s, ok);
+            if (!ok || v != std::floor(v) || !r.contains(v))
+              bad_value(key, allowed, s);
+            ref(o) = int(v);
+          },
+          [=](const RunOptions& o) {
+            return std::to_string(ref(const_cast<RunOptions&>(o)));
+          }};
+}
+
+Param choice(const std::string& key, std::vector<std::string> names,
+             std::function<std::string&(RunOptions&)> ref, const std::string& help) {
+  std::string allowed = "one of {";
+  for (size_t i = 0; i < names.size(); ++i)
+    allowed += (i ? ", " : "") + names[i];
+  allowed += "}";
+  return {key, allowed, help,
+          [=](RunOptions& o, const std::string& s) {
+            for (const auto& n : names)
+              if (n == s)
+                return void(ref(o) = s);
+            bad_value(key, allowed, s);
+          },
+          [=](const RunOptions& o) { return ref(const_cast<RunOptions&>(o)); }};
+}
+
+const std::vector<Param>& parameters();
+
+} // namespace
+
+namespace {
+
+constexpr double kBig = 1e5;
+
+Param time_step() {
+  const std::string allowed = "'auto' or a number in (0, 1]";
+  return {"dt", allowed,
+          "time step in strain units; auto = dt_safety * Ca * (mean edge of the mesh)",
+          [=](RunOptions& o, const std::string& s) {
+            if (s == "auto")
+              return void(o.dt = 0);
+            bool ok;
+            double v = parse_double(s, ok);
+            if (!ok || !(v > 0 && v <= 1))
+              bad_value("dt", allowed, s);
+            o.dt = v;
+          },
+          [](const RunOptions& o) { return o.dt > 0 ? format_number(o.dt) : "auto"; }};
+}
+
+Param load_mapping() {
+  const std::string allowed = "one of {lumped, consistent}";
+  return {"membrane.load", allowed,
+          "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F)",
+          [=](RunOptions& o, const std::string& s) {
+            if (s != "lumped" && s != "consistent")
+              bad_value("membrane.load", allowed, s);
+            o.load = parse_load_mapping(s);
+          },
+          [](const RunOptions& o) { return to_string(o.load); }};
+}
+
+const std::vector<Param>& parameters() {
+  static const std::vector<Param> table = {
+      real(
+          "ca", {0, 10, true, false}, [](RunOptions& o) -> double& { return o.ca; },
+          "capillary number Ca = mu gammadot a / Gs"),
+      real(
+          "phi", {0, 0.45, false, false}, [](RunOptions& o) -> double& { return o.phi; },
+          "volume fraction; 0 = one capsule in unbounded shear (dilute limit)"),
+      integer(
+          "capsules", {1, 10000, false, false},
+          [](RunOptions& o) -> int& { return o.capsules; },
+          "capsules per periodic box (must be 1 when phi = 0)"),
+      integer(
+          "mesh_level", {1, 5, false, false},
+          [](RunOptions& o) -> int& { return o.mesh_level; },
+          "icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles per capsule"),
+      time_step(),
+      real(
+          "dt_safety", {0, 2, true, false},
+          [](RunOptions& o) -> double& { return o.dt_safety; },
+          "C in the automatic time step dt = C Ca h"),
+      real(
+          "t_end", {0, kBig, true, false},
+          [](RunOptions& o) -> double& { return o.t_end; },
+          "end of the run, in strain units gammadot t"),
+      real(
+          "t_avg_start", {0, kBig, false, false},
+          [](RunOptions& o) -> double& { return o.t_avg_start; },
+          "start of the time-averaging window (must be < t_end)"),
+      integer(
+          "seed", {0, 2147483647.0, false, false},
+          [](RunOptions& o) -> int& { return o.seed; },
+          "random seed for initial positions"),
+      choice(
+          "flow", {"shear", "quiescent"},
+          [](RunOptions& o) -> std::string& { return o.flow; },
+          "undisturbed flow: simple shear v = (y, 0, 0), or quiescent fluid"),
+      real(
+          "initial.stretch", {0.5, 2, false, false},
+          [](RunOptions& o) -> double& { return o.initial_stretch; },
+          "initial shape x -> (s x, y/sqrt s, z/sqrt s) of the reference sphere"),
+      load_mapping(),
+      real(
+          "quadrature.far_ratio", {1, 50, false, false},
+          [](RunOptions& o) -> double& { return o.quadrature.far_ratio; },
+          "triangles closer than this many diameters get accurate quadrature"),
+      real(
+          "quadrature.near_ratio", {0.5, 20, false, false},
+          [](RunOptions& o) -> double& { return o.quadrature.near_ratio; },
+          "near-singular subdivision until pieces are this many diameters away"),
+      integer(
+          "quadrature.max_depth", {0, 12, false, false},
+          [](RunOptions& o) -> int& { return o.quadrature.max_depth; },
+          "deepest 1-to-4 subdivision of a near-singular triangle"),
+      integer(
+          "quadrature.singular_points", {2, 64, false, false},
+          [](RunOptions& o) -> int& { return o.quadrature.singular_points; },
+          "Gauss-Legendre points of the polar rule at a vertex"),
+      real(
+          "output.sample_interval", {0, kBig, true, false},
+          [](RunOptions& o) -> double& { return o.output.sample_interval; },
+          "strain between rows of timeseries.h5"),
+      real(
+          "output.checkpoint_interval", {0, kBig, true, false},
+          [](RunOptions& o) -> double& { return o.output.checkpoint_interval; },
+          "strain between checkpoints"),
+      real(
+          "output.snapshot_interval", {0, kBig, false, false},
+          [](RunOptions& o) -> double& { return o.output.snapshot_interval; },
+          "strain between mesh snapshots (XDMF); 0 = none"),
+      integer(
+          "threads", {0, 1024, false, false},
+          [](RunOptions& o) -> int& { return o.threads; },
+          "OpenMP threads; 0 = the OpenMP default"),
+  };
+  return table;
+}
+
+const Param& find_param(const std::string& key) {
+  for (const auto& p : parameters())
+    if (p.key == key)
+      return p;
+  std::string known;
+  for (const auto& p : parameters())
+    known += (known.empty() ? "" : ", ") + p.key;
+  throw ConfigError("unknown key '" + key + "' (known keys: " + known + ")");
+}
+
+void flatten(const YAML::Node& node, const std::string& prefix,
+             std::vector<std::pair<std::string, std::string>>& out) {
+  for (const auto& kv : node) {
+    std::string key = prefix + kv.first.as<std::string>();
+    if (kv.second.IsMap())
+      flatten(kv.second, key + ".", out);
+    else if (kv.second.IsScalar())
+      out.emplace_back(key, kv.second.as<std::string>());
+    else
+      throw ConfigError(key + ": must be a single value, not a list or an empty entry");
+  }
+}
+
+// Checks that involve more than one key.
+void validate(const RunOptions& o) {
+  if (o.t_avg_start >= o.t_end)
+    throw ConfigError("t_avg_start: must be smaller than t_end (" +
+                      format_number(o.t_end) + "), got " + format_number(o.t_avg_start));
+  if (o.phi > 0)
+    throw ConfigError("phi: periodic suspensions (phi > 0) are not implemented in this "
+                      "version; use phi = 0 (one capsule in unbounded shear)");
+  if (o.phi == 0 && o.capsules != 1)
+    throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
+                      std::to_string(o.capsules));
+}
+
+} // namespace
+
+RunOptions parse_run_options(const std::string& yaml_text,
+                             const std::vector<std::string>& overrides,
+                             const std::string& source) {
+  std::vector<std::pair<std::string, std::string>> entries;
+  try {
+    YAML::Node root = YAML::Load(yaml_text);
+    if (root && !root.IsNull()) {
+      if (!root.IsMap())
+        throw ConfigError(source + ": must be a map of key: value entries");
+      flatten(root, "", entries);
+    }
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source + ": not valid YAML: " + e.what());
+  }
+  for (const auto& s : overrides) {
+    auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw ConfigError("--set '" + s + "': must be key=value");
+    entries.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+  }
+  RunOptions o;
+  for (const auto& [key, value] : entries)
+    find_param(key).set(o, value);
+  validate(o);
+  return o;
+}
+
+RunOptions load_run_options(const std::string& yaml_path,
+                            const std::vector<std::string>& overrides) {
+  std::string text;
+  if (!yaml_path.empty()) {
+    std::ifstream in(yaml_path);
+    if (!in)
+      throw ConfigError("cannot read run file '" + yaml_path + "'");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  return parse_run_options(text, overrides, yaml_path.empty() ? "defaults" : yaml_path);
+}
+
+std::vector<std::pair<std::string, std::string>> flat_values(const RunOptions& o) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& p : parameters())
+    out.emplace_back(p.key, p.get(o));
+  return out;
+}
+
+std::string to_yaml(const RunOptions& o) {
+  // Keys are grouped by their prefix (quadrature.*, output.*, ...), in table order.
+  std::ostringstream s;
+  std::string group;
+  for (const auto& [key, value] : flat_values(o)) {
+    auto dot = key.find('.');
+    std::string g = dot == std::string::npos ? "" : key.substr(0, dot);
+    if (g != group && !g.empty())
+      s << g << ":\n";
+    group = g;
+    s << (g.empty() ? "" : "  ") << key.substr(dot == std::string::npos ? 0 : dot + 1)
+      << ": " << value << "\n";
+  }
+  return s.str();
+}
+
+std::string parameter_table_markdown() {
+  RunOptions defaults;
+  std::ostringstream s;
+  s << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
+  for (const auto& p : parameters())
+    s << "| `" << p.key << "` | " << p.get(defaults) << " | " << p.allowed << " | "
+      << p.help << " |\n";
+  return s.str();
+}
+
+} // namespace capsim

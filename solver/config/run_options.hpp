@@ -1,0 +1,61 @@
+#pragma once
+// Run options: one struct field per config key, and one table (run_options.cpp) that
+// names every key, its default, its allowed range and its help text. Parsing, validation,
+// the resolved run.yaml and `capsim params` all read that table, so they cannot drift
+// apart.
+#include "membrane/membrane_forces.hpp"
+#include "stokes/single_layer.hpp"
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace capsim {
+
+struct OutputOptions {
+  double sample_interval = 0.05;    // strain between rows of timeseries.h5
+  double checkpoint_interval = 1.0; // strain between checkpoints
+  double snapshot_interval = 2.0;   // strain between mesh snapshots (0: none)
+};
+
+struct RunOptions {
+  double ca = 0.2;              // capillary number mu gammadot a / Gs
+  double phi = 0.0;             // volume fraction; 0 = one capsule in unbounded shear
+  int capsules = 1;             // capsules per periodic box
+  int mesh_level = 3;           // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
+  double dt = 0.0;              // time step in strain units; 0 = automatic ("auto")
+  double dt_safety = 0.5;       // C in the automatic step dt = C Ca h
+  double t_end = 20.0;          // end of the run, gammadot t
+  double t_avg_start = 10.0;    // start of the averaging window, gammadot t
+  int seed = 1;                 // random seed (initial positions of suspensions)
+  std::string flow = "shear";   // shear (v = (y, 0, 0)) or quiescent
+  double initial_stretch = 1.0; // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
+  LoadMapping load = LoadMapping::lumped;
+  QuadratureOptions quadrature;
+  OutputOptions output;
+  int threads = 0; // OpenMP threads; 0 = the OpenMP default
+};
+
+// Thrown for bad input; the message names the key and the allowed range.
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Reads a run file (YAML, nested maps allowed: `quadrature: {far_ratio: 4}` is the key
+// quadrature.far_ratio), then applies `key=value` overrides, then validates everything.
+RunOptions load_run_options(const std::string& yaml_path,
+                            const std::vector<std::string>& overrides);
+// The same from YAML text (used for the options stored in a checkpoint).
+RunOptions parse_run_options(const std::string& yaml_text,
+                             const std::vector<std::string>& overrides,
+                             const std::string& source = "run file");
+
+// Every key with its resolved value, as nested YAML (run.yaml, checkpoints).
+std::string to_yaml(const RunOptions& o);
+// Every key with its resolved value, flat, for summary.json.
+std::vector<std::pair<std::string, std::string>> flat_values(const RunOptions& o);
+// The table of keys as Markdown, for `capsim params` and the docs.
+std::string parameter_table_markdown();
+
+} // namespace capsim

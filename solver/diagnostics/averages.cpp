@@ -1,0 +1,70 @@
+#include "diagnostics/averages.hpp"
+
+#include "stokes/stokeslet.hpp"
+
+#include <cmath>
+
+namespace capsim {
+namespace {
+
+struct MeanStd {
+  double sum = 0, sum2 = 0;
+  long n = 0;
+  void add(double v) {
+    sum += v;
+    sum2 += v * v;
+    ++n;
+  }
+  double mean() const { return n ? sum / n : NAN; }
+  double std() const {
+    if (n < 2)
+      return 0;
+    double m = mean();
+    return std::sqrt(std::max(0.0, sum2 / n - m * m));
+  }
+};
+
+} // namespace
+
+RunAverages time_average(const std::vector<Sample>& samples, double t_start,
+                         double t_end) {
+  RunAverages a;
+  a.t_start = t_start;
+  a.t_end = t_end;
+  MeanStd d, th, ps, ts, en;
+  for (const auto& s : samples) {
+    for (const auto& c : s.capsules) {
+      a.volume_error_max = std::max(a.volume_error_max, std::abs(c.volume_error));
+      a.volume_drift_max = std::max(a.volume_drift_max, std::abs(c.volume_drift));
+    }
+    if (s.time < t_start - 1e-9 || s.time > t_end + 1e-9)
+      continue;
+    ++a.rows;
+    for (const auto& c : s.capsules) {
+      d.add(c.taylor_D);
+      th.add(c.theta_D_deg);
+      ps.add(c.principal_diff);
+      ts.add(c.theta_S_deg);
+      en.add(c.energy);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          a.stresslet_mean.m[i][j] += c.stresslet.m[i][j];
+    }
+  }
+  a.values = d.n;
+  for (auto& row : a.stresslet_mean.m)
+    for (double& v : row)
+      v = a.values ? v / a.values : NAN;
+  a.D_mean = d.mean(), a.D_std = d.std();
+  a.theta_D_mean = th.mean(), a.theta_D_std = th.std();
+  a.principal_diff_mean = ps.mean(), a.theta_S_mean = ts.mean();
+  a.energy_mean = en.mean();
+  return a;
+}
+
+Rheology rheology_from_stresslet(const Mat3& s, double phi, double ca) {
+  double f = 3.0 * (phi > 0 ? phi : 1.0) / (4.0 * kPi * ca);
+  return {f * s.m[0][1], f * (s.m[0][0] - s.m[1][1]), f * (s.m[1][1] - s.m[2][2])};
+}
+
+} // namespace capsim

@@ -1,0 +1,119 @@
+#include "dynamics/time_stepping.hpp"
+
+#include "mesh/surface_geometry.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace capsim {
+
+FreeSpaceFlow::FreeSpaceFlow(const Membrane& membrane, int num_capsules,
+                             double shear_rate, LoadMapping load,
+                             QuadratureOptions quadrature)
+    : membrane_(membrane), num_capsules_(num_capsules), shear_rate_(shear_rate),
+      load_(load), quadrature_(quadrature) {}
+
+std::vector<double> FreeSpaceFlow::energy_gradient(const std::vector<Vec3>& x,
+                                                   std::vector<Vec3>& grad) const {
+  const int nn = membrane_.topology().num_nodes;
+  grad.resize(x.size());
+  std::vector<double> energy(num_capsules_);
+  std::vector<Vec3> g;
+  for (int c = 0; c < num_capsules_; ++c) {
+    energy[c] = membrane_.energy_gradient(&x[c * nn], g);
+    std::copy(g.begin(), g.end(), grad.begin() + c * nn);
+  }
+  return energy;
+}
+
+void FreeSpaceFlow::velocity(const std::vector<Vec3>& x, std::vector<Vec3>& u,
+                             std::vector<Vec3>* grad_out, double* energy_out) const {
+  const Topology& topo = membrane_.topology();
+  const int nn = topo.num_nodes;
+  std::vector<Vec3> grad, q(x.size()), qc;
+  std::vector<double> energy = energy_gradient(x, grad);
+  for (int c = 0; c < num_capsules_; ++c) {
+    std::vector<Vec3> gc(grad.begin() + c * nn, grad.begin() + (c + 1) * nn);
+    membrane_.nodal_load(&x[c * nn], gc, load_, qc);
+    std::copy(qc.begin(), qc.end(), q.begin() + c * nn);
+  }
+  single_layer_velocity(topo, num_capsules_, x, q, quadrature_, u);
+  for (size_t i = 0; i < x.size(); ++i)
+    u[i].x += shear_rate_ * x[i].y;
+  if (grad_out)
+    *grad_out = std::move(grad);
+  if (energy_out) {
+    *energy_out = 0;
+    for (double e : energy)
+      *energy_out += e;
+  }
+}
+
+void rk2_step(const FreeSpaceFlow& flow, std::vector<Vec3>& x, double dt) {
+  std::vector<Vec3> u0, u1, xs(x.size());
+  flow.velocity(x, u0);
+  for (size_t i = 0; i < x.size(); ++i)
+    xs[i] = x[i] + dt * u0[i];
+  flow.velocity(xs, u1);
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] += (0.5 * dt) * (u0[i] + u1[i]);
+}
+
+std::vector<double> enforce_volume(const Topology& topo, int num_capsules,
+                                   std::vector<Vec3>& x,
+                                   const std::vector<double>& volume0) {
+  const int nn = topo.num_nodes;
+  std::vector<double> drift(num_capsules);
+  for (int c = 0; c < num_capsules; ++c) {
+    Vec3* xc = &x[c * nn];
+    for (int pass = 0; pass < 8; ++pass) {
+      double v = enclosed_volume(topo, xc);
+      double err = (v - volume0[c]) / volume0[c];
+      if (pass == 0)
+        drift[c] = err;
+      if (std::abs(err) < 1e-13)
+        break;
+      double shift = (volume0[c] - v) / surface_area(topo, xc);
+      std::vector<Vec3> n = node_normals(topo, xc);
+      for (int i = 0; i < nn; ++i)
+        xc[i] += shift * n[i];
+    }
+  }
+  return drift;
+}
+
+void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+                 double time, double max_extent) {
+  const int nn = topo.num_nodes;
+  auto fail = [&](const std::string& what, int c) {
+    std::ostringstream s;
+    s << "numerical failure at gammadot*t = " << time << " in capsule " << c << ": "
+      << what
+      << ". The time step is probably too large for this Ca and mesh: lower dt "
+         "(or dt_safety) and resume from the last checkpoint.";
+    throw SimulationError(s.str());
+  };
+  for (int c = 0; c < num_capsules; ++c) {
+    const Vec3* xc = &x[c * nn];
+    for (int i = 0; i < nn; ++i)
+      if (!std::isfinite(xc[i].x) || !std::isfinite(xc[i].y) || !std::isfinite(xc[i].z))
+        fail("a node position is not finite (NaN or Inf)", c);
+    Vec3 centre = volume_centroid(topo, xc);
+    for (int i = 0; i < nn; ++i)
+      if (norm(xc[i] - centre) > max_extent)
+        fail("the membrane has blown up", c);
+    // A folded-over triangle points against the averaged normals of its own nodes.
+    std::vector<Vec3> n = node_normals(topo, xc);
+    for (const auto& t : topo.triangles) {
+      Vec3 an = area_vector2(xc[t[0]], xc[t[1]], xc[t[2]]);
+      if (dot(an, n[t[0]] + n[t[1]] + n[t[2]]) <= 0)
+        fail("a surface triangle has inverted", c);
+    }
+  }
+}
+
+double automatic_time_step(double ca, double mean_edge, double safety) {
+  return safety * ca * mean_edge;
+}
+
+} // namespace capsim

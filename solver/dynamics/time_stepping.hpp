@@ -1,0 +1,69 @@
+#pragma once
+// Time integration of the membrane nodes (paper eq. 3.2): explicit 2nd-order Runge-Kutta
+// (Heun) on dx/dt = v(x), then Freund's (2007) volume constraint.
+#include "membrane/membrane_forces.hpp"
+#include "stokes/single_layer.hpp"
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace capsim {
+
+// A numerical failure (NaN, blow-up, broken mesh): the run stops, the last good
+// checkpoint stays.
+struct SimulationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The velocity field of M capsules in unbounded simple shear v_inf = (shear_rate y, 0, 0)
+// (shear_rate = 0: quiescent fluid).
+class FreeSpaceFlow {
+public:
+  FreeSpaceFlow(const Membrane& membrane, int num_capsules, double shear_rate,
+                LoadMapping load, QuadratureOptions quadrature);
+
+  // Node velocities u at positions x; also returns, through the optional pointers, the
+  // energy gradient dW/dx and the total energy at x (the diagnostics need them).
+  void velocity(const std::vector<Vec3>& x, std::vector<Vec3>& u,
+                std::vector<Vec3>* grad_out = nullptr,
+                double* energy_out = nullptr) const;
+
+  // dW/dx of all capsules (capsule after capsule) and the energy of each.
+  std::vector<double> energy_gradient(const std::vector<Vec3>& x,
+                                      std::vector<Vec3>& grad) const;
+
+  const Membrane& membrane() const { return membrane_; }
+  int num_capsules() const { return num_capsules_; }
+
+private:
+  const Membrane& membrane_;
+  int num_capsules_;
+  double shear_rate_;
+  LoadMapping load_;
+  QuadratureOptions quadrature_;
+};
+
+// One Heun step: x* = x + dt u(x); x <- x + dt/2 (u(x) + u(x*)).
+void rk2_step(const FreeSpaceFlow& flow, std::vector<Vec3>& x, double dt);
+
+// Moves each capsule's nodes along their normals by (V0 - V)/A until the relative volume
+// error is below 1e-13 (three or four passes). Returns each capsule's (V - V0)/V0 found
+// before correcting: the volume drift of the step that is being corrected.
+std::vector<double> enforce_volume(const Topology& topo, int num_capsules,
+                                   std::vector<Vec3>& x,
+                                   const std::vector<double>& volume0);
+
+// Throws SimulationError if any position is not finite, a capsule has stretched beyond
+// max_extent radii from its centroid, or a triangle has collapsed or inverted.
+void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+                 double time, double max_extent = 10.0);
+
+// The automatic step: dt = safety * Ca * h, h the mean edge length of the undeformed
+// mesh. The membrane's fastest relaxation mode on scale h has rate ~ Gs/(mu h) = 1/(Ca
+// h), so an explicit scheme needs dt = O(Ca h) (DESIGN.md 2; safety 0.5 was stable
+// there).
+double automatic_time_step(double ca, double mean_edge, double safety);
+
+} // namespace capsim

@@ -1,0 +1,48 @@
+#pragma once
+// Assembly of the membrane forces of one capsule and the traction jump q that enters the
+// boundary integral (eq. 2.2). Sign (DESIGN.md 1): q_i = (dW/dx_i) / A_i, so that a
+// stretched capsule in quiescent fluid relaxes.
+#include "membrane/neo_hookean.hpp"
+#include "mesh/icosphere.hpp"
+
+#include <string>
+#include <vector>
+
+namespace capsim {
+
+// How nodal forces become the nodal traction field q.
+//  lumped:     q_i = F_i / A_i with A_i the lumped (one-third) node area. Default: it
+//  costs
+//              nothing, is positive and local, and keeps int q dA = sum F exactly; its
+//              error is O(h^2), the same order as the flat-triangle geometry.
+//  consistent: solve M q = F with the P1 mass matrix M on the current surface, so that
+//  the
+//              P1 field q reproduces the weak form (eq. 3.1) exactly.
+enum class LoadMapping { lumped, consistent };
+
+LoadMapping parse_load_mapping(const std::string& name); // throws on unknown names
+std::string to_string(LoadMapping m);
+
+class Membrane {
+public:
+  // reference: stress-free node positions (the initial sphere of radius a = 1).
+  Membrane(const Topology& topo, const Vec3* reference, double gs);
+
+  // Fills grad with dW/dx (size num_nodes) and returns the energy W.
+  double energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const;
+  double energy(const Vec3* x) const;
+
+  // Traction jump q at the nodes from the energy gradient.
+  void nodal_load(const Vec3* x, const std::vector<Vec3>& grad, LoadMapping mapping,
+                  std::vector<Vec3>& q) const;
+
+  const Topology& topology() const { return topo_; }
+  double shear_modulus() const { return gs_; }
+
+private:
+  Topology topo_;
+  std::vector<ElementReference> refs_;
+  double gs_;
+};
+
+} // namespace capsim

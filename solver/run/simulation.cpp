@@ -1,0 +1,259 @@
+#include "run/simulation.hpp"
+
+#include "diagnostics/averages.hpp"
+#include "diagnostics/capsule_diagnostics.hpp"
+#include "dynamics/time_stepping.hpp"
+#include "io/checkpoint_file.hpp"
+#include "io/json_writer.hpp"
+#include "io/timeseries_file.hpp"
+#include "io/xdmf_snapshot.hpp"
+#include "mesh/surface_geometry.hpp"
+#include "run/summary.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <omp.h>
+
+namespace fs = std::filesystem;
+
+namespace capsim {
+
+bool may_change_on_resume(const std::string& key) {
+  return key == "t_end" || key == "t_avg_start" || key == "threads" ||
+         key.rfind("output.", 0) == 0;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+long steps_for(double interval, double dt) {
+  return interval > 0 ? std::max(1L, std::lround(interval / dt)) : 0;
+}
+
+// Refuses to overwrite a finished or running run; checks that the folder is writable.
+void prepare_fresh_outdir(const std::string& dir) {
+  if (fs::exists(dir + "/checkpoint.h5") || fs::exists(dir + "/summary.json"))
+    throw ConfigError("output folder '" + dir +
+                      "' already holds a run: continue it with `capsim run --resume " +
+                      dir + "`, or choose another folder with -o");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  std::string probe = dir + "/.capsim_write_test";
+  std::ofstream out(probe);
+  if (ec || !out)
+    throw ConfigError("output folder '" + dir + "' cannot be created or written" +
+                      (ec ? ": " + ec.message() : ""));
+  out.close();
+  fs::remove(probe);
+}
+
+class RunLoop {
+public:
+  RunLoop(const RunOptions& o, std::string dir, bool quiet)
+      : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
+        membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca),
+        flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load,
+              o.quadrature) {
+    h_ = mean_edge_length(mesh_.topology, mesh_.positions.data());
+    dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety);
+    n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
+    sample_every_ = steps_for(o.output.sample_interval, dt_);
+    checkpoint_every_ = steps_for(o.output.checkpoint_interval, dt_);
+    snapshot_every_ = steps_for(o.output.snapshot_interval, dt_);
+    v0_.assign(o.capsules, enclosed_volume(mesh_.topology, mesh_.positions.data()));
+    drift_.assign(o.capsules, 0.0);
+  }
+
+  void start_fresh();
+  void start_from(const Checkpoint& c);
+  void run();
+  void write_summary(double wall_seconds, bool resumed) const;
+
+private:
+  void take_sample();
+  void save_checkpoint();
+  void save_snapshot();
+  void report_progress(Clock::time_point begin, long first_step, bool force);
+
+  RunOptions o_;
+  std::string dir_;
+  bool quiet_;
+  Icosphere mesh_;
+  Membrane membrane_;
+  FreeSpaceFlow flow_;
+  double h_, dt_;
+  long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
+  long step_ = 0, rows_written_ = 0;
+  std::vector<Vec3> x_;
+  std::vector<double> v0_, drift_;
+  std::vector<Sample> pending_; // samples taken since the last checkpoint
+  std::vector<SnapshotIndexEntry> snapshots_;
+  Clock::time_point last_report_{};
+};
+
+void RunLoop::start_fresh() {
+  const double s = o_.initial_stretch;
+  x_.clear();
+  for (int c = 0; c < o_.capsules; ++c)
+    for (const auto& p : mesh_.positions)
+      x_.push_back({s * p.x, p.y / std::sqrt(s), p.z / std::sqrt(s)});
+  write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
+  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules); // an empty file
+  take_sample();
+  if (snapshot_every_ > 0)
+    save_snapshot();
+  save_checkpoint();
+}
+
+void RunLoop::start_from(const Checkpoint& c) {
+  if (c.nodes_per_capsule != mesh_.topology.num_nodes || c.num_capsules != o_.capsules)
+    throw ConfigError(
+        "checkpoint in '" + dir_ + "' does not match its own options " +
+        "(mesh or capsule count differ): it is not a capsim checkpoint of this run");
+  x_ = c.positions;
+  v0_ = c.volume0;
+  step_ = c.step;
+  rows_written_ = c.samples_written;
+  // Rows written after the checkpoint (a run killed between the two) are dropped.
+  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
+  snapshots_ = list_snapshots(dir_, c.snapshots_written);
+  write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
+}
+
+void RunLoop::run() {
+  const auto begin = Clock::now();
+  const long first = step_;
+  while (step_ < n_steps_) {
+    rk2_step(flow_, x_, dt_);
+    ++step_;
+    std::vector<double> d = enforce_volume(mesh_.topology, o_.capsules, x_, v0_);
+    for (int c = 0; c < o_.capsules; ++c)
+      if (std::abs(d[c]) > std::abs(drift_[c]))
+        drift_[c] = d[c];
+    check_state(mesh_.topology, o_.capsules, x_, step_ * dt_);
+    if (step_ % sample_every_ == 0 || step_ == n_steps_)
+      take_sample();
+    if (snapshot_every_ > 0 && step_ % snapshot_every_ == 0)
+      save_snapshot();
+    if (step_ % checkpoint_every_ == 0 || step_ == n_steps_)
+      save_checkpoint();
+    report_progress(begin, first, step_ == n_steps_);
+  }
+}
+
+void RunLoop::take_sample() {
+  std::vector<Vec3> grad;
+  std::vector<double> energy = flow_.energy_gradient(x_, grad);
+  const int nn = mesh_.topology.num_nodes;
+  Sample s;
+  s.time = step_ * dt_;
+  s.step = step_;
+  for (int c = 0; c < o_.capsules; ++c) {
+    s.capsules.push_back(capsule_sample(mesh_.topology, &x_[c * nn], &grad[c * nn],
+                                        energy[c], v0_[c], o_.ca));
+    s.capsules.back().volume_drift = drift_[c];
+    drift_[c] = 0;
+  }
+  pending_.push_back(std::move(s));
+}
+
+// The time series is opened only here, appended and closed, then the checkpoint is
+// renamed into place: between checkpoints no file of the run is open for writing, so a
+// run killed at any moment leaves readable files, and h5py can read them during a run.
+void RunLoop::save_checkpoint() {
+  {
+    TimeseriesWriter series(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
+    for (const auto& s : pending_)
+      series.append(s);
+  }
+  rows_written_ += long(pending_.size());
+  pending_.clear();
+  Checkpoint c;
+  c.time = step_ * dt_;
+  c.step = step_;
+  c.samples_written = rows_written_;
+  c.snapshots_written = long(snapshots_.size());
+  c.num_capsules = o_.capsules;
+  c.nodes_per_capsule = mesh_.topology.num_nodes;
+  c.volume0 = v0_;
+  c.positions = x_;
+  c.options_yaml = to_yaml(o_);
+  write_checkpoint(dir_ + "/checkpoint.h5", c);
+}
+
+void RunLoop::save_snapshot() {
+  write_snapshot(dir_, long(snapshots_.size()), step_ * dt_, mesh_.topology.triangles,
+                 o_.capsules, x_, snapshots_);
+}
+
+void RunLoop::report_progress(Clock::time_point begin, long first_step, bool force) {
+  auto now = Clock::now();
+  if (quiet_ || (!force && now - last_report_ < std::chrono::seconds(2)))
+    return;
+  last_report_ = now;
+  double elapsed = std::chrono::duration<double>(now - begin).count();
+  double rate = (step_ - first_step) / std::max(elapsed, 1e-9);
+  double eta = (n_steps_ - step_) / std::max(rate, 1e-9);
+  std::fprintf(
+      stderr,
+      "capsim: t = %.3f / %.3f (%5.1f%%)  step %ld/%ld  %.1f steps/s  ETA %.0f s\n",
+      step_ * dt_, n_steps_ * dt_, 100.0 * step_ / n_steps_, step_, n_steps_, rate, eta);
+}
+
+void RunLoop::write_summary(double wall_seconds, bool resumed) const {
+  std::vector<Sample> samples = read_timeseries(dir_ + "/timeseries.h5");
+  SummaryFacts facts;
+  facts.dt = dt_;
+  facts.mean_edge = h_;
+  facts.steps = step_;
+  facts.wall_seconds = wall_seconds;
+  facts.resumed = resumed;
+  facts.threads = omp_get_max_threads();
+  double t_final = step_ * dt_;
+  write_summary_json(dir_ + "/summary.json", o_,
+                     time_average(samples, o_.t_avg_start, t_final), facts);
+}
+
+RunOptions resume_options(const std::string& dir, const Checkpoint& c,
+                          const std::vector<std::string>& overrides) {
+  for (const auto& s : overrides) {
+    std::string key = s.substr(0, s.find('='));
+    if (!may_change_on_resume(key))
+      throw ConfigError(
+          "--set " + key +
+          ": cannot change on --resume (it would change the "
+          "steps already taken); only t_end, t_avg_start, threads and output.* "
+          "can. Start a new run for other values");
+  }
+  return parse_run_options(c.options_yaml, overrides, "checkpoint in " + dir);
+}
+
+} // namespace
+
+void run_simulation(const RunRequest& request) {
+  const auto begin = Clock::now();
+  RunOptions o = request.options;
+  Checkpoint checkpoint;
+  if (request.resume) {
+    checkpoint = read_checkpoint(request.outdir + "/checkpoint.h5");
+    o = resume_options(request.outdir, checkpoint, request.resume_overrides);
+  } else {
+    prepare_fresh_outdir(request.outdir);
+  }
+  if (o.threads > 0)
+    omp_set_num_threads(o.threads);
+  RunLoop loop(o, request.outdir, request.quiet);
+  if (request.resume)
+    loop.start_from(checkpoint);
+  else
+    loop.start_fresh();
+  loop.run();
+  loop.write_summary(std::chrono::duration<double>(Clock::now() - begin).count(),
+                     request.resume);
+}
+
+} // namespace capsim

@@ -1,0 +1,55 @@
+#include "run/summary.hpp"
+
+#include "io/json_writer.hpp"
+
+#include <cstdlib>
+
+namespace capsim {
+
+void write_summary_json(const std::string& path, const RunOptions& o,
+                        const RunAverages& a, const SummaryFacts& facts) {
+  Rheology r = rheology_from_stresslet(a.stresslet_mean, o.phi, o.ca);
+  JsonWriter j;
+  j.begin_object();
+  j.field("program", "capsim");
+  j.field("version", CAPSIM_VERSION);
+  // In the dilute limit (phi = 0) mu_sp, N1, N2 are the intrinsic values per unit phi.
+  j.field("intrinsic", o.phi == 0);
+  j.field("taylor_D", a.D_mean);
+  j.field("taylor_D_std", a.D_std);
+  j.field("theta_D_deg", a.theta_D_mean);
+  j.field("theta_D_std_deg", a.theta_D_std);
+  j.matrix("stresslet", a.stresslet_mean);
+  j.field("principal_stresslet_diff", a.principal_diff_mean);
+  j.field("theta_S_deg", a.theta_S_mean);
+  j.field("mu_sp", r.mu_sp);
+  j.field("N1", r.N1);
+  j.field("N2", r.N2);
+  j.field("energy_mean", a.energy_mean);
+  j.field("volume_error_max", a.volume_error_max);
+  j.field("volume_drift_max", a.volume_drift_max);
+  j.field("t_avg_start", a.t_start);
+  j.field("t_end", a.t_end);
+  j.field("samples", a.rows);
+  j.field("sample_values", a.values);
+  j.field("steps", facts.steps);
+  j.field("dt", facts.dt);
+  j.field("mean_edge_length", facts.mean_edge);
+  j.field("wall_seconds", facts.wall_seconds);
+  j.field("threads", facts.threads);
+  j.field("resumed", facts.resumed);
+  j.begin_object("parameters");
+  for (const auto& [key, value] : flat_values(o)) {
+    char* end = nullptr;
+    double number = std::strtod(value.c_str(), &end);
+    if (!value.empty() && *end == '\0')
+      j.field(key, number);
+    else
+      j.field(key, value);
+  }
+  j.end_object();
+  j.end_object();
+  write_text_atomically(path, j.str());
+}
+
+} // namespace capsim

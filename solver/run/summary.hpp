@@ -1,0 +1,20 @@
+#pragma once
+// summary.json: the run's time averages, rheology and facts (DESIGN.md 3).
+#include "config/run_options.hpp"
+#include "diagnostics/averages.hpp"
+
+#include <string>
+
+namespace capsim {
+
+struct SummaryFacts {
+  double dt = 0, mean_edge = 0, wall_seconds = 0;
+  long steps = 0;
+  int threads = 1;
+  bool resumed = false;
+};
+
+void write_summary_json(const std::string& path, const RunOptions& o,
+                        const RunAverages& a, const SummaryFacts& facts);
+
+} // namespace capsim

@@ -1,0 +1,60 @@
+#include "diagnostics/capsule_diagnostics.hpp"
+#include "dynamics/time_stepping.hpp"
+#include "mesh/surface_geometry.hpp"
+#include "test_helpers.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace capsim;
+
+TEST_CASE("dynamics: a stretched capsule relaxes to a sphere, energy decreasing",
+          "[dynamics]") {
+  Icosphere s = make_icosphere(2);
+  const double ca = 1.0; // Gs = 1
+  Membrane membrane(s.topology, s.positions.data(), 1.0 / ca);
+  FreeSpaceFlow flow(membrane, 1, 0.0, LoadMapping::lumped, {});
+  auto x =
+      testing::stretched(s.positions, 1.25, 1 / std::sqrt(1.25), 1 / std::sqrt(1.25));
+  std::vector<double> v0 = {enclosed_volume(s.topology, s.positions.data())};
+  enforce_volume(s.topology, 1, x, v0);
+  double dt =
+      automatic_time_step(ca, mean_edge_length(s.topology, s.positions.data()), 0.5);
+  double w_prev = membrane.energy(x.data()), w0 = w_prev;
+  bool monotone = true;
+  for (int step = 0; step < 400; ++step) {
+    rk2_step(flow, x, dt);
+    enforce_volume(s.topology, 1, x, v0);
+    double w = membrane.energy(x.data());
+    monotone = monotone && w <= w_prev * (1 + 1e-12);
+    w_prev = w;
+  }
+  check_state(s.topology, 1, x, 400 * dt);
+  CHECK(monotone);
+  CHECK(w_prev < 1e-3 * w0);
+  Vec3 c = volume_centroid(s.topology, x.data());
+  CHECK(taylor_deformation(second_moment(s.topology, x.data(), c)).D < 1e-3);
+}
+
+TEST_CASE("dynamics: the volume constraint restores the reference volume", "[dynamics]") {
+  Icosphere s = make_icosphere(3);
+  auto x = testing::stretched(s.positions, 1.02, 1.03, 0.97);
+  std::vector<double> v0 = {enclosed_volume(s.topology, s.positions.data())};
+  double before = enforce_volume(s.topology, 1, x, v0)[0];
+  CHECK(before == Approx(1.02 * 1.03 * 0.97 - 1).epsilon(1e-12));
+  CHECK(std::abs(enclosed_volume(s.topology, x.data()) - v0[0]) / v0[0] < 1e-12);
+}
+
+TEST_CASE("dynamics: blow-up and NaN stop with a clear message", "[dynamics]") {
+  Icosphere s = make_icosphere(2);
+  auto x = s.positions;
+  x[5].y = std::nan("");
+  CHECK_THROWS_WITH(check_state(s.topology, 1, x, 3.0),
+                    Catch::Contains("not finite") && Catch::Contains("dt"));
+  x = s.positions;
+  x[7] = 20.0 * x[7];
+  CHECK_THROWS_AS(check_state(s.topology, 1, x, 3.0), SimulationError);
+  x = s.positions;
+  const auto& t = s.topology.triangles[0];
+  std::swap(x[t[1]], x[t[2]]); // fold one triangle over
+  CHECK_THROWS_WITH(check_state(s.topology, 1, x, 3.0), Catch::Contains("inverted"));
+}

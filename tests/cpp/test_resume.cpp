@@ -1,0 +1,128 @@
+// End-to-end tests of the capsim executable: a run killed with SIGKILL and resumed gives
+// the same time series and summary as an uninterrupted run; bad input changes nothing.
+#include "io/checkpoint_file.hpp"
+#include "io/timeseries_file.hpp"
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <signal.h>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using namespace capsim;
+
+namespace {
+
+const std::vector<std::string> kCase = {"--set", "mesh_level=2",
+                                        "--set", "ca=0.2",
+                                        "--set", "t_end=3",
+                                        "--set", "t_avg_start=1",
+                                        "--set", "output.checkpoint_interval=0.1",
+                                        "--set", "threads=1",
+                                        "-q"};
+
+fs::path fresh_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() /
+               ("capsim_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  return d;
+}
+
+pid_t spawn(std::vector<std::string> args) {
+  args.insert(args.begin(), CAPSIM_BINARY);
+  pid_t pid = ::fork();
+  if (pid == 0) {
+    std::vector<char*> argv;
+    for (auto& a : args)
+      argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(CAPSIM_BINARY, argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+int run(const std::vector<std::string>& args) {
+  int status = 0;
+  ::waitpid(spawn(args), &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<std::string> with(std::vector<std::string> a,
+                              const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// summary.json without the lines that legitimately differ (wall time, resumed flag).
+std::string physics_of_summary(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.find("wall_seconds") == std::string::npos &&
+        line.find("\"resumed\"") == std::string::npos)
+      out += line + "\n";
+  return out;
+}
+
+} // namespace
+
+TEST_CASE("resume: a killed and resumed run equals an uninterrupted one", "[resume]") {
+  fs::path whole = fresh_dir("whole"), killed = fresh_dir("killed");
+  REQUIRE(run(with({"run", "-o", whole.string()}, kCase)) == 0);
+
+  pid_t pid = spawn(with({"run", "-o", killed.string()}, kCase));
+  // Kill it once a checkpoint past the start exists, i.e. in the middle of the run.
+  for (int i = 0; i < 4000; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    try {
+      if (read_checkpoint((killed / "checkpoint.h5").string()).step >= 20)
+        break;
+    } catch (const std::exception&) {
+    }
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(WIFSIGNALED(status));
+  REQUIRE_FALSE(fs::exists(killed / "summary.json"));
+
+  REQUIRE(run({"run", "-q", "--resume", killed.string()}) == 0);
+  CHECK(physics_of_summary(killed) == physics_of_summary(whole));
+  auto a = read_timeseries((whole / "timeseries.h5").string());
+  auto b = read_timeseries((killed / "timeseries.h5").string());
+  REQUIRE(a.size() == b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i].time == b[i].time);
+    CHECK(a[i].capsules[0].taylor_D == b[i].capsules[0].taylor_D);
+    CHECK(a[i].capsules[0].stresslet.m[0][1] == b[i].capsules[0].stresslet.m[0][1]);
+  }
+  fs::remove_all(whole);
+  fs::remove_all(killed);
+}
+
+TEST_CASE("resume: bad input is refused and loses nothing", "[resume]") {
+  fs::path dir = fresh_dir("bad");
+  REQUIRE(run({"run", "-q", "--set", "mesh_level=2", "--set", "t_end=0.2", "--set",
+               "t_avg_start=0", "-o", dir.string()}) == 0);
+  auto before = fs::last_write_time(dir / "summary.json");
+  // A new run into a finished run's folder, a physics change on resume, bad values:
+  CHECK(run({"run", "-q", "-o", dir.string()}) == 2);
+  CHECK(run({"run", "-q", "--resume", dir.string(), "--set", "ca=0.5"}) == 2);
+  CHECK(run({"run", "-q", "--set", "ca=-1", "-o", (dir / "sub").string()}) == 2);
+  CHECK(fs::last_write_time(dir / "summary.json") == before);
+  CHECK_FALSE(fs::exists(dir / "sub"));
+  // A corrupt checkpoint is reported, not overwritten.
+  { std::ofstream(dir / "checkpoint.h5") << "not an HDF5 file"; }
+  CHECK(run({"run", "-q", "--resume", dir.string()}) == 4);
+  std::ifstream in(dir / "checkpoint.h5");
+  std::stringstream s;
+  s << in.rdbuf();
+  CHECK(s.str() == "not an HDF5 file");
+  fs::remove_all(dir);
+}

@@ -1,0 +1,59 @@
+#include "config/run_options.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace capsim;
+
+namespace {
+std::string error_of(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_run_options(yaml, sets);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+} // namespace
+
+TEST_CASE("config: defaults and nested keys", "[config]") {
+  RunOptions o =
+      parse_run_options("ca: 0.3\nquadrature:\n  far_ratio: 6\ndt: auto\n", {});
+  CHECK(o.ca == 0.3);
+  CHECK(o.quadrature.far_ratio == 6);
+  CHECK(o.dt == 0);
+  CHECK(o.mesh_level == 3);
+  o = parse_run_options("ca: 0.3\n", {"ca=0.5", "dt=0.01", "membrane.load=consistent"});
+  CHECK(o.ca == 0.5);
+  CHECK(o.dt == 0.01);
+  CHECK(o.load == LoadMapping::consistent);
+}
+
+TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
+  CHECK_THAT(error_of("ca: -0.1\n"), Catch::Contains("ca: must be a number in (0, 10]") &&
+                                         Catch::Contains("-0.1"));
+  CHECK_THAT(error_of("mesh_level: 9\n"),
+             Catch::Contains("mesh_level: must be an integer in [1, 5]"));
+  CHECK_THAT(error_of("mesh_level: 2.5\n"), Catch::Contains("mesh_level"));
+  CHECK_THAT(error_of("ca: fast\n"),
+             Catch::Contains("ca: must be a number") && Catch::Contains("'fast'"));
+  CHECK_THAT(error_of("viscosity: 2\n"),
+             Catch::Contains("unknown key 'viscosity'") && Catch::Contains("known keys"));
+  CHECK_THAT(error_of("dt: soon\n"), Catch::Contains("dt: must be 'auto' or a number"));
+  CHECK_THAT(error_of("flow: pipe\n"),
+             Catch::Contains("flow: must be one of {shear, quiescent}"));
+  CHECK_THAT(error_of("t_end: 5\nt_avg_start: 6\n"), Catch::Contains("t_avg_start"));
+  CHECK_THAT(error_of("capsules: 3\n"),
+             Catch::Contains("capsules: must be 1 when phi = 0"));
+  CHECK_THAT(error_of("phi: 0.3\n"), Catch::Contains("phi: periodic suspensions"));
+  CHECK_THAT(error_of("ca: [1, 2]\n"), Catch::Contains("ca: must be a single value"));
+  CHECK_THAT(error_of("ca: 0.2\n  bad indent: [\n"), Catch::Contains("not valid YAML"));
+  CHECK_THAT(error_of("", {"ca"}), Catch::Contains("must be key=value"));
+}
+
+TEST_CASE("config: the resolved YAML reads back to the same options", "[config]") {
+  RunOptions o = parse_run_options("", {"ca=0.35", "quadrature.near_ratio=3", "dt=0.002",
+                                        "output.snapshot_interval=0", "threads=1"});
+  RunOptions back = parse_run_options(to_yaml(o), {});
+  CHECK(flat_values(back) == flat_values(o));
+  CHECK_THAT(parameter_table_markdown(), Catch::Contains("`quadrature.far_ratio`"));
+}
