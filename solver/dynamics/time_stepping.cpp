@@ -89,8 +89,9 @@ void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>
     std::ostringstream s;
     s << "numerical failure at gammadot*t = " << time << " in capsule " << c << ": "
       << what
-      << ". The time step is probably too large for this Ca and mesh: lower dt "
-         "(or dt_safety) and resume from the last checkpoint.";
+      << ". The time step is probably too large for this Ca and mesh: start again "
+         "with a smaller dt or dt_safety (the output folder keeps the last good "
+         "checkpoint and time series)";
     throw SimulationError(s.str());
   };
   for (int c = 0; c < num_capsules; ++c) {

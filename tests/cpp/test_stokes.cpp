@@ -94,3 +94,23 @@ TEST_CASE("stokes: singular and near-singular element rules converge", "[stokes]
   Vec3 ref = integrate_adaptive(x, t, 8.0, 12);
   CHECK(norm(integrate_adaptive(x, t, 2.0, 6) - ref) / norm(ref) < 1e-3);
 }
+
+TEST_CASE("stokes: velocities rotate with the capsule and its load", "[stokes]") {
+  Icosphere s = make_icosphere(2);
+  auto x = testing::stretched(s.positions, 1.3, 0.8, 1.0, 0.3);
+  std::vector<Vec3> q, u, ur;
+  for (const auto& p : x)
+    q.push_back({p.y, p.x * p.x, 0.2 * p.z});
+  const double angle = 1.1;
+  auto xr = testing::stretched(x, 1, 1, 1, angle),
+       qr = testing::stretched(q, 1, 1, 1, angle);
+  single_layer_velocity(s.topology, 1, x, q, {}, u);
+  single_layer_velocity(s.topology, 1, xr, qr, {}, ur);
+  auto u_rotated = testing::stretched(u, 1, 1, 1, angle);
+  double worst = 0, scale = 0;
+  for (size_t i = 0; i < u.size(); ++i) {
+    worst = std::max(worst, norm(ur[i] - u_rotated[i]));
+    scale = std::max(scale, norm(u[i]));
+  }
+  CHECK(worst / scale < 1e-12);
+}
