@@ -2,7 +2,9 @@
 // every error reaches the user as one readable line and a non-zero exit code.
 #include "config/run_options.hpp"
 #include "dynamics/time_stepping.hpp"
+#include "io/json_writer.hpp"
 #include "run/simulation.hpp"
+#include "stokes/periodic_stokeslet.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -36,6 +38,57 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       "continue the run in this folder from its last checkpoint (with --set, only "
       "t_end, t_avg_start, threads and output.* may change)");
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
+}
+
+struct GreensArgs {
+  double box = 0, strain = 0, xi = 0, tolerance = 1e-12;
+  std::vector<double> point;
+};
+
+void add_greens_command(CLI::App& app, GreensArgs& a) {
+  CLI::App* g = app.add_subcommand(
+      "greens",
+      "Print the periodic Stokeslet J^E (paper eq. 2.3) of a sheared cubic lattice "
+      "at one point, as JSON, to check the kernel");
+  g->add_option("--box", a.box, "box side L (capsule radii)")
+      ->required()
+      ->check(CLI::Range(1e-6, 1e6));
+  g->add_option("--strain", a.strain,
+                "lattice strain offset s (wrapped into [-1/2, 1/2))");
+  g->add_option("--xi", a.xi, "Ewald splitting parameter (default sqrt(pi)/L)")
+      ->check(CLI::Range(1e-6, 1e6));
+  g->add_option("--tolerance", a.tolerance, "truncation tolerance of both sums")
+      ->check(CLI::Range(1e-16, 0.1));
+  g->add_option("--point", a.point, "field point x y z relative to the source")
+      ->required()
+      ->expected(3);
+}
+
+int greens_command(const GreensArgs& a) {
+  capsim::ShearedLattice lattice = capsim::make_sheared_lattice(a.box, a.strain);
+  capsim::EwaldParameters p = capsim::choose_ewald_parameters(a.box, a.tolerance, a.xi);
+  capsim::EwaldCounts counts;
+  capsim::Vec3 r{a.point[0], a.point[1], a.point[2]};
+  capsim::Mat3 j;
+  try {
+    j = capsim::periodic_stokeslet(lattice, r, p, &counts);
+  } catch (const std::invalid_argument& e) {
+    throw capsim::ConfigError(std::string("--point: ") + e.what());
+  }
+  capsim::JsonWriter w;
+  w.begin_object();
+  w.matrix("J", j);
+  w.field("normalisation", "v(x) = -1/(8 pi mu) J^E(x - y) q: J^E = I/r + r r/r^3 + ...");
+  w.field("box", a.box);
+  w.field("strain", lattice.s);
+  w.field("xi", p.xi);
+  w.field("r_cut", p.r_cut);
+  w.field("k_cut", p.k_cut);
+  w.field("images", counts.images);
+  w.field("wave_vectors", counts.wave_vectors);
+  w.end_object();
+  std::cout << w.str();
+  return 0;
 }
 
 int run_command(const RunArgs& a) {
@@ -74,8 +127,12 @@ int main(int argc, char** argv) {
   CLI::App* params =
       app.add_subcommand("params", "List every run-file key with its default "
                                    "and allowed range (Markdown)");
+  GreensArgs greens_args;
+  add_greens_command(app, greens_args);
   CLI11_PARSE(app, argc, argv);
   try {
+    if (app.got_subcommand("greens"))
+      return greens_command(greens_args);
     if (params->parsed()) {
       std::cout << capsim::parameter_table_markdown();
       return 0;

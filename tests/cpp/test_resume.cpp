@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <signal.h>
@@ -137,4 +138,19 @@ TEST_CASE("resume: a numerical blow-up stops with exit 3 and keeps the checkpoin
   Checkpoint c = read_checkpoint((dir / "checkpoint.h5").string());
   CHECK(c.step == 0);
   fs::remove_all(dir);
+}
+
+TEST_CASE("cli: capsim greens prints the periodic Stokeslet and refuses lattice points",
+          "[cli]") {
+  fs::path out = fresh_dir("greens");
+  std::string cmd = std::string(CAPSIM_BINARY) +
+                    " greens --box 4 --strain 1.3 --point 0.7 -1.3 0.4 > " + out.string();
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(out);
+  std::stringstream s;
+  s << in.rdbuf();
+  CHECK_THAT(s.str(), Catch::Contains("\"J\": [[-0.0345848158") &&
+                          Catch::Contains("\"strain\": 0.3"));
+  CHECK(run({"greens", "--box", "4", "--point", "4", "0", "0"}) == 2);
+  fs::remove(out);
 }

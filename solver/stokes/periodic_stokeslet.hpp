@@ -1,0 +1,29 @@
+#pragma once
+// The periodic Stokeslet J^E of a sheared lattice (paper eq. 2.3) by plain Ewald sums:
+// the reference kernel behind `capsim greens` and the tests of the fast methods.
+#include "common/vec3.hpp"
+#include "stokes/sheared_lattice.hpp"
+
+namespace capsim {
+
+struct EwaldParameters {
+  double xi = 0;    // splitting parameter
+  double r_cut = 0; // real-space images with |r_n| < r_cut
+  double k_cut = 0; // wave vectors with 0 < |k| < k_cut
+};
+
+// Cut-offs for a relative truncation error ~ tolerance: the real-space terms decay like
+// erfc(xi r) + (4/sqrt pi)(xi r)^3 exp(-xi^2 r^2), the reciprocal ones like
+// (1 + q + 2 q^2) exp(-q) with q = k^2/(4 xi^2). xi <= 0 picks sqrt(pi)/L, which balances
+// the number of real and reciprocal terms.
+EwaldParameters choose_ewald_parameters(double L, double tolerance, double xi = 0);
+
+struct EwaldCounts {
+  long images = 0, wave_vectors = 0;
+};
+
+// J^E(r) as a 3x3 tensor (normalisation of eq. 2.2: v = -1/(8 pi mu) J^E q).
+Mat3 periodic_stokeslet(const ShearedLattice& lattice, Vec3 r, const EwaldParameters& p,
+                        EwaldCounts* counts = nullptr);
+
+} // namespace capsim
