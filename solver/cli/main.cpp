@@ -3,6 +3,7 @@
 #include "config/run_options.hpp"
 #include "dynamics/time_stepping.hpp"
 #include "io/json_writer.hpp"
+#include "run/multipole_error.hpp"
 #include "run/simulation.hpp"
 #include "stokes/periodic_stokeslet.hpp"
 
@@ -91,6 +92,37 @@ int greens_command(const GreensArgs& a) {
   return 0;
 }
 
+struct MultipoleArgs {
+  std::string run_dir, output;
+  std::vector<int> patches = {1, 20, 80, 320, 1280};
+  std::vector<double> distances = {2, 2.5, 3, 4, 5, 6, 8, 10, 12, 15, 20};
+};
+
+void add_multipole_command(CLI::App& app, MultipoleArgs& a) {
+  CLI::App* m = app.add_subcommand(
+      "multipole-error",
+      "Error of the multipole-patch coarse graining around the capsule of a run's "
+      "checkpoint, against fine quadrature (paper eq. 3.11, figure 1), as CSV");
+  m->add_option("RUNDIR", a.run_dir,
+                "a run folder with checkpoint.h5 (e.g. a dilute run)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  m->add_option("--patches", a.patches, "patch counts P (1 or 20 * 4^l)");
+  m->add_option("--distances", a.distances, "distances r/a from the centroid")
+      ->check(CLI::Range(1.0, 1e4));
+  m->add_option("-o,--output", a.output, "CSV file (default: standard output)");
+}
+
+int multipole_command(const MultipoleArgs& a) {
+  std::string csv = capsim::multipole_error_csv(
+      capsim::multipole_error(a.run_dir, a.patches, a.distances));
+  if (a.output.empty())
+    std::cout << csv;
+  else
+    capsim::write_text_atomically(a.output, csv);
+  return 0;
+}
+
 int run_command(const RunArgs& a) {
   capsim::RunRequest request;
   request.quiet = a.quiet;
@@ -129,10 +161,14 @@ int main(int argc, char** argv) {
                                    "and allowed range (Markdown)");
   GreensArgs greens_args;
   add_greens_command(app, greens_args);
+  MultipoleArgs multipole_args;
+  add_multipole_command(app, multipole_args);
   CLI11_PARSE(app, argc, argv);
   try {
     if (app.got_subcommand("greens"))
       return greens_command(greens_args);
+    if (app.got_subcommand("multipole-error"))
+      return multipole_command(multipole_args);
     if (params->parsed()) {
       std::cout << capsim::parameter_table_markdown();
       return 0;
