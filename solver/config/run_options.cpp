@@ -131,7 +131,8 @@ Param time_step() {
 Param load_mapping() {
   const std::string allowed = "one of {lumped, consistent}";
   return {"membrane.load", allowed,
-          "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F)",
+          "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F; "
+          "needs dt_safety <= 0.2)",
           [=](RunOptions& o, const std::string& s) {
             if (s != "lumped" && s != "consistent")
               bad_value("membrane.load", allowed, s);
