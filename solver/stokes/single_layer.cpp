@@ -2,51 +2,13 @@
 
 #include "stokes/element_integrals.hpp"
 #include "stokes/near_triangles.hpp"
+#include "stokes/triangle_sources.hpp"
 
 #include <cmath>
 #include <omp.h>
 
 namespace capsim {
 namespace {
-
-// Quadrature points of the far rule as structure-of-arrays, ready for the dense sum.
-struct FarSources {
-  std::vector<double> y[3]; // point positions
-  std::vector<double> f[3]; // weight * area * q at the point
-};
-
-TriangleLoad triangle_load(const Topology& topo, const std::vector<Vec3>& x,
-                           const std::vector<Vec3>& q, int global_triangle) {
-  const int nt = int(topo.triangles.size());
-  const int offset = (global_triangle / nt) * topo.num_nodes;
-  const Triangle& tri = topo.triangles[global_triangle % nt];
-  TriangleLoad t;
-  for (int k = 0; k < 3; ++k) {
-    t.p[k] = x[offset + tri[k]];
-    t.q[k] = q[offset + tri[k]];
-  }
-  return t;
-}
-
-FarSources far_sources(const std::vector<TriangleLoad>& loads) {
-  const TriangleRule rule = triangle_rule_3();
-  FarSources s;
-  for (int a = 0; a < 3; ++a) {
-    s.y[a].resize(loads.size() * rule.n);
-    s.f[a].resize(loads.size() * rule.n);
-  }
-  for (size_t t = 0; t < loads.size(); ++t) {
-    double area = 0.5 * norm(area_vector2(loads[t].p[0], loads[t].p[1], loads[t].p[2]));
-    for (int g = 0; g < rule.n; ++g) {
-      Vec3 y = barycentric(loads[t].p, rule.l1[g], rule.l2[g]);
-      Vec3 f = (rule.w[g] * area) * barycentric(loads[t].q, rule.l1[g], rule.l2[g]);
-      size_t k = t * rule.n + g;
-      s.y[0][k] = y.x, s.y[1][k] = y.y, s.y[2][k] = y.z;
-      s.f[0][k] = f.x, s.f[1][k] = f.y, s.f[2][k] = f.z;
-    }
-  }
-  return s;
-}
 
 // The O(N^2) loop is compiled for several instruction sets and the best one the CPU has
 // is picked at load time: a portable build still runs AVX2/AVX-512 code (2x faster here).

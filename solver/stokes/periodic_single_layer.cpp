@@ -1,0 +1,162 @@
+#include "stokes/periodic_single_layer.hpp"
+
+#include "stokes/ewald_kernel.hpp"
+#include "stokes/triangle_sources.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace capsim {
+namespace {
+
+// Lattice vectors that can bring a wrapped separation (fractional coordinates in
+// [-1/2, 1/2), so |r0| < 1.6 L) within r_cut.
+std::vector<Vec3> real_space_shifts(const ShearedLattice& g, double r_cut) {
+  const double reach = r_cut + 1.6 * g.L;
+  const int n = int(std::ceil(reach / g.L)) + 1;
+  std::vector<Vec3> shifts;
+  for (int n3 = -n; n3 <= n; ++n3)
+    for (int n2 = -n; n2 <= n; ++n2)
+      for (int n1 = -2 * n; n1 <= 2 * n; ++n1) {
+        Vec3 r = lattice_point(g, n1, n2, n3);
+        if (norm(r) < reach)
+          shifts.push_back(r);
+      }
+  // Nearest first, so that a sum can stop at the first shift beyond |r0| + r_cut.
+  std::sort(shifts.begin(), shifts.end(),
+            [](Vec3 a, Vec3 b) { return dot(a, a) < dot(b, b); });
+  return shifts;
+}
+
+std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut) {
+  const int m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
+  std::vector<Vec3> ks;
+  for (int m3 = -m; m3 <= m; ++m3)
+    for (int m1 = -m; m1 <= m; ++m1)
+      for (int m2 = -m - 1; m2 <= m + 1; ++m2) {
+        Vec3 k = reciprocal_point(g, m1, m2 + std::round(g.s * m1), m3);
+        double kk = norm(k);
+        if (kk > 0 && kk < k_cut)
+          ks.push_back(k);
+      }
+  return ks;
+}
+
+// sum_g sum_images J^EI(x - y_g + R) f_g for |x - y_g + R| < r_cut.
+Vec3 real_space_sum(const ShearedLattice& g, Vec3 x, const FarSources& s,
+                    const std::vector<Vec3>& shifts, const EwaldParameters& p) {
+  Vec3 sum;
+  for (size_t k = 0; k < s.size(); ++k) {
+    Vec3 r0 = wrap_to_cell(g, x - Vec3{s.y[0][k], s.y[1][k], s.y[2][k]});
+    Vec3 f{s.f[0][k], s.f[1][k], s.f[2][k]};
+    const double stop = p.r_cut + norm(r0);
+    for (const Vec3& shift : shifts) {
+      if (dot(shift, shift) > stop * stop)
+        break;
+      Vec3 r = r0 + shift;
+      if (dot(r, r) < p.r_cut * p.r_cut)
+        sum += ewald_real_apply(r, f, p.xi);
+    }
+  }
+  return sum;
+}
+
+// 7-point rule of the smooth part (J^EI - J) over one triangle.
+Vec3 smooth_part(Vec3 x, const TriangleLoad& t, double xi) {
+  const TriangleRule rule = triangle_rule_7();
+  double area = 0.5 * norm(area_vector2(t.p[0], t.p[1], t.p[2]));
+  Vec3 sum;
+  for (int k = 0; k < rule.n; ++k) {
+    Vec3 y = barycentric(t.p, rule.l1[k], rule.l2[k]);
+    Vec3 qk = barycentric(t.q, rule.l1[k], rule.l2[k]);
+    sum += (rule.w[k] * area) * ewald_real_minus_free_apply(x - y, qk, xi);
+  }
+  return sum;
+}
+
+// Correction for the image of triangle t nearest to x, if it is near: the accurate
+// screened integral minus the far-rule screened sum already counted for it.
+Vec3 near_correction(const ShearedLattice& g, Vec3 x, int node, const Topology& topo,
+                     int t_global, TriangleLoad load, const EwaldParameters& p,
+                     const QuadratureOptions& o, const LineRule& gl) {
+  const int nt = int(topo.triangles.size());
+  const Vec3 c = triangle_centroid(load.p);
+  const Vec3 d = wrap_to_cell(g, x - c);
+  const double diam = triangle_diameter(load.p);
+  if (norm(d) >= o.far_ratio * diam)
+    return {};
+  const Vec3 shift = (x - d) - c; // lattice vector to the nearest image
+  for (auto& v : load.p)
+    v += shift;
+  int vertex = -1;
+  if (node / topo.num_nodes == t_global / nt && norm(shift) < 1e-9 * g.L)
+    for (int k = 0; k < 3; ++k)
+      if (topo.triangles[t_global % nt][k] == node % topo.num_nodes)
+        vertex = k;
+  Vec3 accurate = vertex >= 0 ? integrate_singular_vertex(vertex, load, gl.x.data(),
+                                                          gl.w.data(), int(gl.x.size()))
+                              : integrate_adaptive(x, load, o.near_ratio, o.max_depth);
+  accurate += smooth_part(x, load, p.xi);
+  const TriangleRule rule = triangle_rule_3();
+  double area = 0.5 * norm(area_vector2(load.p[0], load.p[1], load.p[2]));
+  for (int k = 0; k < rule.n; ++k) {
+    Vec3 y = barycentric(load.p, rule.l1[k], rule.l2[k]);
+    Vec3 qk = barycentric(load.q, rule.l1[k], rule.l2[k]);
+    accurate -= (rule.w[k] * area) * ewald_real_apply(x - y, qk, p.xi);
+  }
+  return accurate;
+}
+
+// (8 pi / V) sum_k w(k) (I - k k / k^2) Re[exp(i k . x) S(k)] at every node.
+void reciprocal_sum(const ShearedLattice& g, const std::vector<Vec3>& x,
+                    const FarSources& s, const EwaldParameters& p, std::vector<Vec3>& u) {
+  const double c = 8.0 * kPi / (g.L * g.L * g.L);
+  for (const Vec3& k : wave_vectors(g, p.k_cut)) {
+    Vec3 sc, ss;
+    for (size_t j = 0; j < s.size(); ++j) {
+      double phase = k.x * s.y[0][j] + k.y * s.y[1][j] + k.z * s.y[2][j];
+      Vec3 f{s.f[0][j], s.f[1][j], s.f[2][j]};
+      sc += std::cos(phase) * f;
+      ss += std::sin(phase) * f;
+    }
+    sc = c * ewald_recip_apply(k, sc, p.xi);
+    ss = c * ewald_recip_apply(k, ss, p.xi);
+#pragma omp parallel for schedule(static)
+    for (size_t i = 0; i < x.size(); ++i) {
+      double phase = dot(k, x[i]);
+      u[i] += std::cos(phase) * sc + std::sin(phase) * ss;
+    }
+  }
+}
+
+} // namespace
+
+void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
+                                    const std::vector<Vec3>& x,
+                                    const std::vector<Vec3>& q,
+                                    const ShearedLattice& lattice,
+                                    const EwaldParameters& ewald,
+                                    const QuadratureOptions& quad, std::vector<Vec3>& u) {
+  const int num_tri = int(topo.triangles.size()) * num_capsules;
+  std::vector<TriangleLoad> loads(num_tri);
+  for (int t = 0; t < num_tri; ++t)
+    loads[t] = triangle_load(topo, x, q, t);
+  const FarSources far = far_sources(loads);
+  const std::vector<Vec3> shifts = real_space_shifts(lattice, ewald.r_cut);
+  const LineRule gl = gauss_legendre_01(quad.singular_points);
+  const int n = int(x.size());
+  u.assign(n, Vec3{});
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int i = 0; i < n; ++i) {
+    Vec3 sum = real_space_sum(lattice, x[i], far, shifts, ewald);
+    for (int t = 0; t < num_tri; ++t)
+      sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
+    u[i] = sum;
+  }
+  reciprocal_sum(lattice, x, far, ewald, u);
+  for (auto& v : u)
+    v = (-1.0 / (8.0 * kPi)) * v;
+}
+
+} // namespace capsim

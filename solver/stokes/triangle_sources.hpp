@@ -1,0 +1,25 @@
+#pragma once
+// The surface of M capsules as P1 triangles with their loads, and the far-rule (3-point)
+// quadrature points of every triangle as structure-of-arrays, the input of the dense
+// sums.
+#include "mesh/icosphere.hpp"
+#include "stokes/element_integrals.hpp"
+
+#include <vector>
+
+namespace capsim {
+
+struct FarSources {
+  std::vector<double> y[3]; // point positions
+  std::vector<double> f[3]; // weight * area * q at the point
+  size_t size() const { return y[0].size(); }
+};
+
+// Triangle `global_triangle` (capsule * T + local index) with its node positions and
+// loads.
+TriangleLoad triangle_load(const Topology& topo, const std::vector<Vec3>& x,
+                           const std::vector<Vec3>& q, int global_triangle);
+
+FarSources far_sources(const std::vector<TriangleLoad>& loads);
+
+} // namespace capsim

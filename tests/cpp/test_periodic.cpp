@@ -1,0 +1,81 @@
+#include "membrane/membrane_forces.hpp"
+#include "stokes/periodic_single_layer.hpp"
+#include "test_helpers.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace capsim;
+
+namespace {
+
+// Capsules (level 2) with the membrane load of a tilted ellipsoidal deformation, centred
+// at the given points.
+struct Suspension {
+  Icosphere mesh = make_icosphere(2);
+  std::vector<Vec3> x, q;
+  explicit Suspension(const std::vector<Vec3>& centres) {
+    auto shape = testing::stretched(mesh.positions, 1.3, 0.8, 0.96, 0.5);
+    Membrane m(mesh.topology, mesh.positions.data(), 1.0);
+    std::vector<Vec3> grad, qc;
+    m.energy_gradient(shape.data(), grad);
+    m.nodal_load(shape.data(), grad, LoadMapping::lumped, qc);
+    for (const auto& c : centres)
+      for (int i = 0; i < mesh.topology.num_nodes; ++i) {
+        x.push_back(shape[i] + c);
+        q.push_back(qc[i]);
+      }
+  }
+  int count() const { return int(x.size()) / mesh.topology.num_nodes; }
+  std::vector<Vec3> periodic(double L, double strain, double tol, double xi = 0) const {
+    std::vector<Vec3> u;
+    periodic_single_layer_velocity(mesh.topology, count(), x, q,
+                                   make_sheared_lattice(L, strain),
+                                   choose_ewald_parameters(L, tol, xi), {}, u);
+    return u;
+  }
+};
+
+double relative_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double d = 0, s = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    d = std::max(d, norm(a[i] - b[i]));
+    s = std::max(s, norm(b[i]));
+  }
+  return d / s;
+}
+
+} // namespace
+
+TEST_CASE("periodic: a capsule in a large box sees the free-space flow plus O(L^-3)",
+          "[periodic]") {
+  Suspension one({{0.3, -0.2, 0.1}});
+  std::vector<Vec3> free;
+  single_layer_velocity(one.mesh.topology, 1, one.x, one.q, {}, free);
+  double d15 = relative_difference(one.periodic(15, 0.0, 1e-8), free);
+  double d30 = relative_difference(one.periodic(30, 0.0, 1e-8), free);
+  INFO("L = 15: " << d15 << ", L = 30: " << d30);
+  CHECK(d30 < 1e-3);
+  CHECK(d15 / d30 == Approx(8.0).margin(2.5));
+}
+
+TEST_CASE("periodic: the velocity does not depend on xi", "[periodic]") {
+  Suspension two({{0.2, 0.1, 0.0}, {2.9, 2.4, -0.3}});
+  const double L = 6.0, xi0 = 1.77245385 / L;
+  // Not exactly independent: the 3-point rule of the screened kernel J^EI on the
+  // (level-2, h ~ 0.3) triangles has an error that grows like (xi h)^3; for xi up to
+  // 1.6 sqrt(pi)/L it stays below 1e-5 (2e-5 at 2.5 sqrt(pi)/L).
+  auto ref = two.periodic(L, 0.2, 1e-8, 1.0 * xi0);
+  CHECK(relative_difference(two.periodic(L, 0.2, 1e-8, 1.6 * xi0), ref) < 1e-5);
+}
+
+TEST_CASE("periodic: images and strain periods give identical velocities", "[periodic]") {
+  const double L = 6.0;
+  Suspension a({{0.2, 0.1, 0.0}, {2.9, 2.4, -0.3}});
+  Suspension b(
+      {{0.2, 0.1, 0.0},
+       Vec3{2.9, 2.4, -0.3} + lattice_point(make_sheared_lattice(L, 0.2), 1, -1, 2)});
+  const double xi = 2.0 * 1.77245385 / L; // exact invariances: any accuracy will do
+  auto ua = a.periodic(L, 0.2, 1e-6, xi);
+  CHECK(relative_difference(b.periodic(L, 0.2, 1e-6, xi), ua) < 1e-10);
+  CHECK(relative_difference(a.periodic(L, 1.2, 1e-6, xi), ua) < 1e-10);
+}
