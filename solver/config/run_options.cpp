@@ -128,6 +128,25 @@ Param time_step() {
           [](const RunOptions& o) { return o.dt > 0 ? format_number(o.dt) : "auto"; }};
 }
 
+Param ewald_xi() {
+  const std::string allowed = "'auto' or a number in (0, 100]";
+  return {
+      "ewald.xi", allowed,
+      "Ewald splitting parameter; auto balances the cost of the real and reciprocal sums",
+      [=](RunOptions& o, const std::string& s) {
+        if (s == "auto")
+          return void(o.ewald.xi = 0);
+        bool ok;
+        double v = parse_double(s, ok);
+        if (!ok || !(v > 0 && v <= 100))
+          bad_value("ewald.xi", allowed, s);
+        o.ewald.xi = v;
+      },
+      [](const RunOptions& o) {
+        return o.ewald.xi > 0 ? format_number(o.ewald.xi) : "auto";
+      }};
+}
+
 Param load_mapping() {
   const std::string allowed = "one of {lumped, consistent}";
   return {"membrane.load", allowed,
@@ -200,6 +219,19 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> int& { return o.quadrature.singular_points; },
           "Gauss-Legendre points of the polar rule at a vertex"),
       real(
+          "ewald.tolerance", {1e-12, 1e-2, false, false},
+          [](RunOptions& o) -> double& { return o.ewald.tolerance; },
+          "truncation tolerance of the Ewald sums (phi > 0)"),
+      ewald_xi(),
+      real(
+          "suspension.min_gap", {0, 2, false, false},
+          [](RunOptions& o) -> double& { return o.suspension.min_gap; },
+          "smallest surface gap between capsules in the initial packing (phi > 0)"),
+      real(
+          "suspension.stop_distance", {0, 1, false, false},
+          [](RunOptions& o) -> double& { return o.suspension.stop_distance; },
+          "stop the run when nodes of two capsules come this close (phi > 0)"),
+      real(
           "output.sample_interval", {0, kBig, true, false},
           [](RunOptions& o) -> double& { return o.output.sample_interval; },
           "strain between rows of timeseries.h5"),
@@ -247,9 +279,6 @@ void validate(const RunOptions& o) {
   if (o.t_avg_start >= o.t_end)
     throw ConfigError("t_avg_start: must be smaller than t_end (" +
                       format_number(o.t_end) + "), got " + format_number(o.t_avg_start));
-  if (o.phi > 0)
-    throw ConfigError("phi: periodic suspensions (phi > 0) are not implemented in this "
-                      "version; use phi = 0 (one capsule in unbounded shear)");
   if (o.phi == 0 && o.capsules != 1)
     throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
                       std::to_string(o.capsules));

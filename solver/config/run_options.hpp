@@ -19,6 +19,16 @@ struct OutputOptions {
   double snapshot_interval = 2.0;   // strain between mesh snapshots (0: none)
 };
 
+struct EwaldOptions {
+  double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
+  double xi = 0;           // splitting parameter; 0 = automatic ("auto", cost-balanced)
+};
+
+struct SuspensionOptions {
+  double min_gap = 0.1;        // smallest surface gap between capsules at t = 0, in a
+  double stop_distance = 0.02; // stop when nodes of two capsules come this close, in a
+};
+
 struct RunOptions {
   double ca = 0.2;              // capillary number mu gammadot a / Gs
   double phi = 0.0;             // volume fraction; 0 = one capsule in unbounded shear
@@ -33,6 +43,8 @@ struct RunOptions {
   double initial_stretch = 1.0; // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
   LoadMapping load = LoadMapping::lumped;
   QuadratureOptions quadrature;
+  EwaldOptions ewald;
+  SuspensionOptions suspension;
   OutputOptions output;
   int threads = 0; // OpenMP threads; 0 = the OpenMP default
 };

@@ -1,20 +1,20 @@
 #include "dynamics/time_stepping.hpp"
 
 #include "mesh/surface_geometry.hpp"
+#include "stokes/periodic_single_layer.hpp"
 
 #include <cmath>
 #include <sstream>
 
 namespace capsim {
 
-FreeSpaceFlow::FreeSpaceFlow(const Membrane& membrane, int num_capsules,
-                             double shear_rate, LoadMapping load,
-                             QuadratureOptions quadrature)
+CapsuleFlow::CapsuleFlow(const Membrane& membrane, int num_capsules, double shear_rate,
+                         LoadMapping load, QuadratureOptions quadrature, PeriodicBox box)
     : membrane_(membrane), num_capsules_(num_capsules), shear_rate_(shear_rate),
-      load_(load), quadrature_(quadrature) {}
+      load_(load), quadrature_(quadrature), box_(box) {}
 
-std::vector<double> FreeSpaceFlow::energy_gradient(const std::vector<Vec3>& x,
-                                                   std::vector<Vec3>& grad) const {
+std::vector<double> CapsuleFlow::energy_gradient(const std::vector<Vec3>& x,
+                                                 std::vector<Vec3>& grad) const {
   const int nn = membrane_.topology().num_nodes;
   grad.resize(x.size());
   std::vector<double> energy(num_capsules_);
@@ -26,35 +26,32 @@ std::vector<double> FreeSpaceFlow::energy_gradient(const std::vector<Vec3>& x,
   return energy;
 }
 
-void FreeSpaceFlow::velocity(const std::vector<Vec3>& x, std::vector<Vec3>& u,
-                             std::vector<Vec3>* grad_out, double* energy_out) const {
+void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
+                           std::vector<Vec3>& u) const {
   const Topology& topo = membrane_.topology();
   const int nn = topo.num_nodes;
   std::vector<Vec3> grad, q(x.size()), qc;
-  std::vector<double> energy = energy_gradient(x, grad);
+  energy_gradient(x, grad);
   for (int c = 0; c < num_capsules_; ++c) {
     std::vector<Vec3> gc(grad.begin() + c * nn, grad.begin() + (c + 1) * nn);
     membrane_.nodal_load(&x[c * nn], gc, load_, qc);
     std::copy(qc.begin(), qc.end(), q.begin() + c * nn);
   }
-  single_layer_velocity(topo, num_capsules_, x, q, quadrature_, u);
+  if (periodic())
+    periodic_single_layer_velocity(topo, num_capsules_, x, q, lattice(t), box_.ewald,
+                                   quadrature_, u);
+  else
+    single_layer_velocity(topo, num_capsules_, x, q, quadrature_, u);
   for (size_t i = 0; i < x.size(); ++i)
     u[i].x += shear_rate_ * x[i].y;
-  if (grad_out)
-    *grad_out = std::move(grad);
-  if (energy_out) {
-    *energy_out = 0;
-    for (double e : energy)
-      *energy_out += e;
-  }
 }
 
-void rk2_step(const FreeSpaceFlow& flow, std::vector<Vec3>& x, double dt) {
+void rk2_step(const CapsuleFlow& flow, std::vector<Vec3>& x, double t, double dt) {
   std::vector<Vec3> u0, u1, xs(x.size());
-  flow.velocity(x, u0);
+  flow.velocity(x, t, u0);
   for (size_t i = 0; i < x.size(); ++i)
     xs[i] = x[i] + dt * u0[i];
-  flow.velocity(xs, u1);
+  flow.velocity(xs, t + dt, u1);
   for (size_t i = 0; i < x.size(); ++i)
     x[i] += (0.5 * dt) * (u0[i] + u1[i]);
 }

@@ -2,6 +2,7 @@
 // Time integration of the membrane nodes (paper eq. 3.2): explicit 2nd-order Runge-Kutta
 // (Heun) on dx/dt = v(x), then Freund's (2007) volume constraint.
 #include "membrane/membrane_forces.hpp"
+#include "stokes/periodic_stokeslet.hpp"
 #include "stokes/single_layer.hpp"
 
 #include <functional>
@@ -17,23 +18,31 @@ struct SimulationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The velocity field of M capsules in unbounded simple shear v_inf = (shear_rate y, 0, 0)
-// (shear_rate = 0: quiescent fluid).
-class FreeSpaceFlow {
-public:
-  FreeSpaceFlow(const Membrane& membrane, int num_capsules, double shear_rate,
-                LoadMapping load, QuadratureOptions quadrature);
+// The periodic box of a suspension: a cube of side L sheared with the flow (Lees-Edwards:
+// the lattice strain offset is shear_rate * t). L = 0 means unbounded fluid.
+struct PeriodicBox {
+  double L = 0;
+  EwaldParameters ewald;
+};
 
-  // Node velocities u at positions x; also returns, through the optional pointers, the
-  // energy gradient dW/dx and the total energy at x (the diagnostics need them).
-  void velocity(const std::vector<Vec3>& x, std::vector<Vec3>& u,
-                std::vector<Vec3>* grad_out = nullptr,
-                double* energy_out = nullptr) const;
+// The velocity field of M capsules in simple shear v_inf = (shear_rate y, 0, 0)
+// (shear_rate = 0: quiescent fluid), unbounded or in a sheared periodic box.
+class CapsuleFlow {
+public:
+  CapsuleFlow(const Membrane& membrane, int num_capsules, double shear_rate,
+              LoadMapping load, QuadratureOptions quadrature, PeriodicBox box = {});
+
+  // Node velocities u at positions x and time t (the time sets the lattice strain).
+  void velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const;
 
   // dW/dx of all capsules (capsule after capsule) and the energy of each.
   std::vector<double> energy_gradient(const std::vector<Vec3>& x,
                                       std::vector<Vec3>& grad) const;
 
+  bool periodic() const { return box_.L > 0; }
+  ShearedLattice lattice(double t) const {
+    return make_sheared_lattice(box_.L, shear_rate_ * t);
+  }
   const Membrane& membrane() const { return membrane_; }
   int num_capsules() const { return num_capsules_; }
 
@@ -43,10 +52,12 @@ private:
   double shear_rate_;
   LoadMapping load_;
   QuadratureOptions quadrature_;
+  PeriodicBox box_;
 };
 
-// One Heun step: x* = x + dt u(x); x <- x + dt/2 (u(x) + u(x*)).
-void rk2_step(const FreeSpaceFlow& flow, std::vector<Vec3>& x, double dt);
+// One Heun step from time t: x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t +
+// dt)).
+void rk2_step(const CapsuleFlow& flow, std::vector<Vec3>& x, double t, double dt);
 
 // Moves each capsule's nodes along their normals by (V0 - V)/A until the relative volume
 // error is below 1e-13 (three or four passes). Returns each capsule's (V - V0)/V0 found

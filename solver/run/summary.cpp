@@ -38,6 +38,12 @@ void write_summary_json(const std::string& path, const RunOptions& o,
   j.field("wall_seconds", facts.wall_seconds);
   j.field("threads", facts.threads);
   j.field("resumed", facts.resumed);
+  if (facts.box_side > 0) {
+    j.field("box_side", facts.box_side);
+    j.field("ewald_xi", facts.ewald_xi);
+    j.field("ewald_r_cut", facts.ewald_r_cut);
+    j.field("ewald_k_cut", facts.ewald_k_cut);
+  }
   j.begin_object("parameters");
   for (const auto& [key, value] : flat_values(o)) {
     char* end = nullptr;

@@ -12,6 +12,8 @@ struct SummaryFacts {
   long steps = 0;
   int threads = 1;
   bool resumed = false;
+  double box_side = 0; // periodic box side L; 0 in the dilute limit
+  double ewald_xi = 0, ewald_r_cut = 0, ewald_k_cut = 0;
 };
 
 void write_summary_json(const std::string& path, const RunOptions& o,

@@ -18,6 +18,13 @@ struct EwaldParameters {
 // the number of real and reciprocal terms.
 EwaldParameters choose_ewald_parameters(double L, double tolerance, double xi = 0);
 
+// The xi that balances the cost of the direct sums for `targets` field points and
+// `sources` quadrature points: real space ~ targets * sources * (4 pi/3) r_cut^3 / V,
+// reciprocal space ~ (targets + sources) * (4 pi/3) (k_cut L / 2 pi)^3; equal when
+// xi^6 = targets sources pi^3 x_c^3 / ((targets + sources) V^2 q_c^(3/2)), with x_c, q_c
+// the dimensionless cut-offs of `tolerance`. Never below sqrt(pi)/L.
+double balanced_xi(double L, double tolerance, long targets, long sources);
+
 struct EwaldCounts {
   long images = 0, wave_vectors = 0;
 };

@@ -44,7 +44,9 @@ TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
   CHECK_THAT(error_of("t_end: 5\nt_avg_start: 6\n"), Catch::Contains("t_avg_start"));
   CHECK_THAT(error_of("capsules: 3\n"),
              Catch::Contains("capsules: must be 1 when phi = 0"));
-  CHECK_THAT(error_of("phi: 0.3\n"), Catch::Contains("phi: periodic suspensions"));
+  CHECK_THAT(error_of("phi: 0.5\n"),
+             Catch::Contains("phi: must be a number in [0, 0.45]"));
+  CHECK_THAT(error_of("ewald:\n  xi: -1\n"), Catch::Contains("ewald.xi: must be 'auto'"));
   CHECK_THAT(error_of("ca: [1, 2]\n"), Catch::Contains("ca: must be a single value"));
   CHECK_THAT(error_of("ca: 0.2\n  bad indent: [\n"), Catch::Contains("not valid YAML"));
   CHECK_THAT(error_of("", {"ca"}), Catch::Contains("must be key=value"));

@@ -1,0 +1,30 @@
+#pragma once
+// Lees-Edwards boundary handling for a sheared periodic box: capsules are kept whole and
+// moved, as a whole, by a lattice vector of the current (sheared) lattice whenever their
+// centroid leaves the primary cell (fractional coordinates in [0, 1)). Crossing the
+// gradient (y) boundary therefore also shifts x by the strain offset s L, and, through
+// v_inf = (y, 0, 0) at the new position, changes the capsule's imposed velocity by
+// gammadot L: the Lees-Edwards conditions.
+#include "mesh/icosphere.hpp"
+#include "stokes/sheared_lattice.hpp"
+
+#include <vector>
+
+namespace capsim {
+
+// Returns the number of capsules moved.
+int remap_capsules(const Topology& topo, int num_capsules, const ShearedLattice& lattice,
+                   std::vector<Vec3>& x);
+
+// Smallest distance between nodes of different capsules (periodic minimum image): a
+// cheap, conservative proxy for the surface gap, used to stop a run whose capsules
+// overlap. Only pairs whose bounding spheres come within `reach` are examined.
+struct ClosestApproach {
+  double distance = 1e300;
+  int capsule_a = -1, capsule_b = -1;
+};
+ClosestApproach closest_approach(const Topology& topo, int num_capsules,
+                                 const ShearedLattice& lattice,
+                                 const std::vector<Vec3>& x, double reach);
+
+} // namespace capsim
