@@ -1,6 +1,7 @@
 #include "stokes/periodic_single_layer.hpp"
 
 #include "stokes/ewald_kernel.hpp"
+#include "stokes/ewald_reciprocal.hpp"
 #include "stokes/triangle_sources.hpp"
 
 #include <algorithm>
@@ -27,20 +28,6 @@ std::vector<Vec3> real_space_shifts(const ShearedLattice& g, double r_cut) {
   std::sort(shifts.begin(), shifts.end(),
             [](Vec3 a, Vec3 b) { return dot(a, a) < dot(b, b); });
   return shifts;
-}
-
-std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut) {
-  const int m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
-  std::vector<Vec3> ks;
-  for (int m3 = -m; m3 <= m; ++m3)
-    for (int m1 = -m; m1 <= m; ++m1)
-      for (int m2 = -m - 1; m2 <= m + 1; ++m2) {
-        Vec3 k = reciprocal_point(g, m1, m2 + std::round(g.s * m1), m3);
-        double kk = norm(k);
-        if (kk > 0 && kk < k_cut)
-          ks.push_back(k);
-      }
-  return ks;
 }
 
 // sum_g sum_images J^EI(x - y_g + R) f_g for |x - y_g + R| < r_cut.
@@ -108,35 +95,6 @@ Vec3 near_correction(const ShearedLattice& g, Vec3 x, int node, const Topology& 
   return accurate;
 }
 
-// (8 pi / V) sum_k w(k) (I - k k / k^2) Re[exp(i k . x) S(k)] at every node. The
-// structure factors are computed first (in parallel over k), then each node sums over k:
-// two parallel loops in all, not one per wave vector.
-void reciprocal_sum(const ShearedLattice& g, const std::vector<Vec3>& x,
-                    const FarSources& s, const EwaldParameters& p, std::vector<Vec3>& u) {
-  const double c = 8.0 * kPi / (g.L * g.L * g.L);
-  const std::vector<Vec3> ks = wave_vectors(g, p.k_cut);
-  std::vector<Vec3> cos_part(ks.size()), sin_part(ks.size());
-#pragma omp parallel for schedule(static)
-  for (size_t m = 0; m < ks.size(); ++m) {
-    const Vec3 k = ks[m];
-    Vec3 sc, ss;
-    for (size_t j = 0; j < s.size(); ++j) {
-      double phase = k.x * s.y[0][j] + k.y * s.y[1][j] + k.z * s.y[2][j];
-      Vec3 f{s.f[0][j], s.f[1][j], s.f[2][j]};
-      sc += std::cos(phase) * f;
-      ss += std::sin(phase) * f;
-    }
-    cos_part[m] = c * ewald_recip_apply(k, sc, p.xi);
-    sin_part[m] = c * ewald_recip_apply(k, ss, p.xi);
-  }
-#pragma omp parallel for schedule(static)
-  for (size_t i = 0; i < x.size(); ++i)
-    for (size_t m = 0; m < ks.size(); ++m) {
-      double phase = dot(ks[m], x[i]);
-      u[i] += std::cos(phase) * cos_part[m] + std::sin(phase) * sin_part[m];
-    }
-}
-
 } // namespace
 
 void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
@@ -161,7 +119,7 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
       sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
     u[i] = sum;
   }
-  reciprocal_sum(lattice, x, far, ewald, u);
+  ewald_reciprocal_direct(lattice, x, far, ewald, u);
   for (auto& v : u)
     v = (-1.0 / (8.0 * kPi)) * v;
 }

@@ -1,0 +1,21 @@
+#pragma once
+// The reciprocal-space (smooth) part of the Ewald sum, paper eq. 2.3 second term:
+//   u_i += (8 pi / V) sum_{0 < |k| < k_cut} J^EII(k) Re[exp(i k . x_i) sum_g f_g exp(-i k
+//   . y_g)]
+// evaluated directly, O((N_targets + N_sources) K): the reference for Spectral Ewald.
+#include "stokes/periodic_stokeslet.hpp"
+#include "stokes/triangle_sources.hpp"
+
+#include <vector>
+
+namespace capsim {
+
+// Wave vectors of the sheared lattice with 0 < |k| < k_cut.
+std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut);
+
+// Adds the reciprocal-space sum (without the -1/(8 pi) factor) to u at the targets x.
+void ewald_reciprocal_direct(const ShearedLattice& g, const std::vector<Vec3>& x,
+                             const FarSources& s, const EwaldParameters& p,
+                             std::vector<Vec3>& u);
+
+} // namespace capsim

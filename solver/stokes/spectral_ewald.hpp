@@ -1,0 +1,56 @@
+#pragma once
+// Spectral Ewald (Lindbo & Tornberg 2011) for the reciprocal-space part of the periodic
+// Stokeslet sum, on the sheared lattice through fractional coordinates. The Gaussian
+// factor exp(-k^2/(4 xi^2)) is split into exp(-(1 - eta) k^2/(4 xi^2)), applied on the
+// grid, and two Gaussians g(r) = (2 xi^2/(pi eta))^(3/2) exp(-2 xi^2 r^2/eta) whose
+// transform is exp(-eta k^2/(8 xi^2)):
+//   1. spread H(z_j) = sum_g f_g g(z_j - y_g) to a uniform M^3 grid in fractional
+//      coordinates (z_j = A j / M, A the lattice vectors), P grid points of support;
+//   2. FFT; multiply by (8 pi / V) J^EII(k) exp(-(1 - eta) k^2/(4 xi^2)) /
+//   exp(-k^2/4xi^2)
+//      (i.e. the Stokes k-space kernel with the remaining Gaussian); inverse FFT;
+//   3. gather u(x) = (V / M^3) sum_j g(x - z_j) w_j.
+// Cost O(N P^3 + M^3 log M) instead of O(N K). Host code; the Gaussian weights are the
+// host-device part a GPU backend would share.
+#include "stokes/periodic_stokeslet.hpp"
+#include "stokes/triangle_sources.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace capsim {
+
+struct SpectralParameters {
+  int grid = 0;    // M points per direction (even)
+  int support = 0; // P grid points of Gaussian support per direction
+  double eta = 0;  // Gaussian splitting, 0 < eta < 1
+};
+
+// P from the tolerance (truncation and quadrature errors ~ exp(-pi P / 2)), M from the
+// k-space cut-off of `ewald` (the grid must carry every |k| < k_cut of the sheared
+// lattice), eta = (2 w xi / m)^2 with w = P h / 2 and m = 0.976 sqrt(pi P).
+SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& ewald,
+                                              double tolerance);
+
+struct SpectralTimings {
+  double spread = 0, fft = 0, gather = 0;
+};
+
+class SpectralEwald {
+public:
+  SpectralEwald(double L, const EwaldParameters& ewald, const SpectralParameters& p);
+  ~SpectralEwald();
+  SpectralEwald(const SpectralEwald&) = delete;
+  SpectralEwald& operator=(const SpectralEwald&) = delete;
+
+  // Adds the reciprocal-space velocity (without the -1/(8 pi) factor) at the targets.
+  void add_reciprocal(const ShearedLattice& lattice, const FarSources& sources,
+                      const std::vector<Vec3>& targets, std::vector<Vec3>& u,
+                      SpectralTimings* timings = nullptr);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace capsim
