@@ -130,21 +130,21 @@ Param time_step() {
 
 Param ewald_xi() {
   const std::string allowed = "'auto' or a number in (0, 100]";
-  return {
-      "ewald.xi", allowed,
-      "Ewald splitting parameter; auto balances the cost of the real and reciprocal sums",
-      [=](RunOptions& o, const std::string& s) {
-        if (s == "auto")
-          return void(o.ewald.xi = 0);
-        bool ok;
-        double v = parse_double(s, ok);
-        if (!ok || !(v > 0 && v <= 100))
-          bad_value("ewald.xi", allowed, s);
-        o.ewald.xi = v;
-      },
-      [](const RunOptions& o) {
-        return o.ewald.xi > 0 ? format_number(o.ewald.xi) : "auto";
-      }};
+  return {"ewald.xi", allowed,
+          "Ewald splitting parameter; auto: for spectral r_cut = min(L/5, 1.5 a) but "
+          "xi <= 0.25/h (h the mean edge), for direct the cost balance of the two sums",
+          [=](RunOptions& o, const std::string& s) {
+            if (s == "auto")
+              return void(o.ewald.xi = 0);
+            bool ok;
+            double v = parse_double(s, ok);
+            if (!ok || !(v > 0 && v <= 100))
+              bad_value("ewald.xi", allowed, s);
+            o.ewald.xi = v;
+          },
+          [](const RunOptions& o) {
+            return o.ewald.xi > 0 ? format_number(o.ewald.xi) : "auto";
+          }};
 }
 
 Param load_mapping() {
@@ -168,6 +168,11 @@ const std::vector<Param>& parameters() {
       real(
           "phi", {0, 0.45, false, false}, [](RunOptions& o) -> double& { return o.phi; },
           "volume fraction; 0 = one capsule in unbounded shear (dilute limit)"),
+      choice(
+          "method", {"spectral", "direct"},
+          [](RunOptions& o) -> std::string& { return o.method; },
+          "periodic sums (phi > 0): spectral (Spectral Ewald, FFT) or direct (plain "
+          "Ewald, the reference)"),
       integer(
           "capsules", {1, 10000, false, false},
           [](RunOptions& o) -> int& { return o.capsules; },

@@ -11,7 +11,10 @@ namespace capsim {
 CapsuleFlow::CapsuleFlow(const Membrane& membrane, int num_capsules, double shear_rate,
                          LoadMapping load, QuadratureOptions quadrature, PeriodicBox box)
     : membrane_(membrane), num_capsules_(num_capsules), shear_rate_(shear_rate),
-      load_(load), quadrature_(quadrature), box_(box) {}
+      load_(load), quadrature_(quadrature), box_(box) {
+  if (box_.L > 0 && box_.spectral)
+    spectral_ = std::make_shared<SpectralEwald>(box_.L, box_.ewald, box_.grid);
+}
 
 std::vector<double> CapsuleFlow::energy_gradient(const std::vector<Vec3>& x,
                                                  std::vector<Vec3>& grad) const {
@@ -39,7 +42,7 @@ void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
   }
   if (periodic())
     periodic_single_layer_velocity(topo, num_capsules_, x, q, lattice(t), box_.ewald,
-                                   quadrature_, u);
+                                   quadrature_, u, spectral_.get());
   else
     single_layer_velocity(topo, num_capsules_, x, q, quadrature_, u);
   for (size_t i = 0; i < x.size(); ++i)

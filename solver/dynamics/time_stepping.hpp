@@ -4,8 +4,10 @@
 #include "membrane/membrane_forces.hpp"
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/single_layer.hpp"
+#include "stokes/spectral_ewald.hpp"
 
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,6 +25,8 @@ struct SimulationError : std::runtime_error {
 struct PeriodicBox {
   double L = 0;
   EwaldParameters ewald;
+  bool spectral = false;   // reciprocal sums by Spectral Ewald (else directly)
+  SpectralParameters grid; // its grid, when spectral
 };
 
 // The velocity field of M capsules in simple shear v_inf = (shear_rate y, 0, 0)
@@ -53,6 +57,7 @@ private:
   LoadMapping load_;
   QuadratureOptions quadrature_;
   PeriodicBox box_;
+  std::shared_ptr<SpectralEwald> spectral_; // FFT plans and grids, made once
 };
 
 // One Heun step from time t: x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t +

@@ -35,16 +35,27 @@ using Clock = std::chrono::steady_clock;
 
 // The periodic box for phi > 0: side L = (M 4 pi / (3 phi))^(1/3) (DESIGN.md 1) and Ewald
 // parameters from the tolerance; none (L = 0) in the dilute limit.
-PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
+PeriodicBox periodic_box(const RunOptions& o, const Topology& topo, double mean_edge) {
   if (o.phi <= 0)
     return {};
   PeriodicBox box;
   box.L = std::cbrt(o.capsules * 4.0 * kPi / (3.0 * o.phi));
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
-  const double xi =
-      o.ewald.xi > 0 ? o.ewald.xi : balanced_xi(box.L, o.ewald.tolerance, nodes, points);
+  box.spectral = o.method == "spectral";
+  double xi = o.ewald.xi;
+  if (xi <= 0 && box.spectral) {
+    // Short real-space sums (cell lists need r_cut <= L/5), the FFT grid carries the
+    // rest; but the screened kernel must stay smooth on the scale of the triangles, whose
+    // 3-point rule integrates it (xi h <= 0.25 kept that error below 1e-5 in the tests).
+    const double x_cut = choose_ewald_parameters(box.L, o.ewald.tolerance, 1.0).r_cut;
+    xi = std::min(x_cut / std::min(box.L / 5.0, 1.5), 0.25 / mean_edge);
+  } else if (xi <= 0) {
+    xi = balanced_xi(box.L, o.ewald.tolerance, nodes, points);
+  }
   box.ewald = choose_ewald_parameters(box.L, o.ewald.tolerance, xi);
+  if (box.spectral)
+    box.grid = choose_spectral_parameters(box.L, box.ewald, o.ewald.tolerance);
   return box;
 }
 
@@ -74,7 +85,8 @@ public:
   RunLoop(const RunOptions& o, std::string dir, bool quiet)
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca),
-        box_(periodic_box(o, mesh_.topology)),
+        box_(periodic_box(o, mesh_.topology,
+                          mean_edge_length(mesh_.topology, mesh_.positions.data()))),
         flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load, o.quadrature,
               box_) {
     h_ = mean_edge_length(mesh_.topology, mesh_.positions.data());
@@ -270,6 +282,8 @@ void RunLoop::write_summary(double wall_seconds, bool resumed) const {
   facts.ewald_xi = box_.ewald.xi;
   facts.ewald_r_cut = box_.ewald.r_cut;
   facts.ewald_k_cut = box_.ewald.k_cut;
+  facts.spectral_grid = box_.grid.grid;
+  facts.spectral_support = box_.grid.support;
   double t_final = step_ * dt_;
   write_summary_json(dir_ + "/summary.json", o_,
                      time_average(samples, o_.t_avg_start, t_final), facts);

@@ -43,6 +43,8 @@ void write_summary_json(const std::string& path, const RunOptions& o,
     j.field("ewald_xi", facts.ewald_xi);
     j.field("ewald_r_cut", facts.ewald_r_cut);
     j.field("ewald_k_cut", facts.ewald_k_cut);
+    j.field("spectral_grid", facts.spectral_grid);
+    j.field("spectral_support", facts.spectral_support);
   }
   j.begin_object("parameters");
   for (const auto& [key, value] : flat_values(o)) {

@@ -2,6 +2,7 @@
 
 #include "stokes/ewald_kernel.hpp"
 #include "stokes/ewald_reciprocal.hpp"
+#include "stokes/periodic_cells.hpp"
 #include "stokes/triangle_sources.hpp"
 
 #include <algorithm>
@@ -95,6 +96,26 @@ Vec3 near_correction(const ShearedLattice& g, Vec3 x, int node, const Topology& 
   return accurate;
 }
 
+// sum over the far-rule points within r_cut (all images), through the cell list.
+Vec3 real_space_sum_cells(Vec3 x, const FarSources& s, const PeriodicCells& cells,
+                          const EwaldParameters& p) {
+  Vec3 sum;
+  const double rc2 = p.r_cut * p.r_cut;
+  cells.for_neighbours(x, [&](int k, Vec3 y) {
+    Vec3 r = x - y;
+    if (dot(r, r) < rc2)
+      sum += ewald_real_apply(r, {s.f[0][k], s.f[1][k], s.f[2][k]}, p.xi);
+  });
+  return sum;
+}
+
+std::vector<Vec3> point_positions(const FarSources& s) {
+  std::vector<Vec3> y(s.size());
+  for (size_t k = 0; k < s.size(); ++k)
+    y[k] = {s.y[0][k], s.y[1][k], s.y[2][k]};
+  return y;
+}
+
 } // namespace
 
 void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
@@ -102,24 +123,45 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
                                     const std::vector<Vec3>& q,
                                     const ShearedLattice& lattice,
                                     const EwaldParameters& ewald,
-                                    const QuadratureOptions& quad, std::vector<Vec3>& u) {
+                                    const QuadratureOptions& quad, std::vector<Vec3>& u,
+                                    SpectralEwald* spectral) {
   const int num_tri = int(topo.triangles.size()) * num_capsules;
   std::vector<TriangleLoad> loads(num_tri);
-  for (int t = 0; t < num_tri; ++t)
+  std::vector<Vec3> centroids(num_tri);
+  double max_diam = 0;
+  for (int t = 0; t < num_tri; ++t) {
     loads[t] = triangle_load(topo, x, q, t);
+    centroids[t] = triangle_centroid(loads[t].p);
+    max_diam = std::max(max_diam, triangle_diameter(loads[t].p));
+  }
   const FarSources far = far_sources(loads);
-  const std::vector<Vec3> shifts = real_space_shifts(lattice, ewald.r_cut);
+  const PeriodicCells point_cells(lattice, ewald.r_cut, point_positions(far));
+  const PeriodicCells triangle_cells(lattice, quad.far_ratio * max_diam, centroids);
+  const bool use_cells = point_cells.usable() && triangle_cells.usable();
+  const std::vector<Vec3> shifts =
+      use_cells ? std::vector<Vec3>{} : real_space_shifts(lattice, ewald.r_cut);
   const LineRule gl = gauss_legendre_01(quad.singular_points);
   const int n = int(x.size());
   u.assign(n, Vec3{});
 #pragma omp parallel for schedule(dynamic, 8)
   for (int i = 0; i < n; ++i) {
-    Vec3 sum = real_space_sum(lattice, x[i], far, shifts, ewald);
-    for (int t = 0; t < num_tri; ++t)
-      sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
-    u[i] = sum;
+    if (use_cells) {
+      Vec3 sum = real_space_sum_cells(x[i], far, point_cells, ewald);
+      triangle_cells.for_neighbours(x[i], [&](int t, Vec3) {
+        sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
+      });
+      u[i] = sum;
+    } else {
+      Vec3 sum = real_space_sum(lattice, x[i], far, shifts, ewald);
+      for (int t = 0; t < num_tri; ++t)
+        sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
+      u[i] = sum;
+    }
   }
-  ewald_reciprocal_direct(lattice, x, far, ewald, u);
+  if (spectral)
+    spectral->add_reciprocal(lattice, far, x, u);
+  else
+    ewald_reciprocal_direct(lattice, x, far, ewald, u);
   for (auto& v : u)
     v = (-1.0 / (8.0 * kPi)) * v;
 }

@@ -8,10 +8,13 @@
 //    vertex, adaptive subdivision otherwise) plus a 7-point rule of the smooth J^EI - J;
 //  - reciprocal space: structure factors S(k) = sum_g f_g exp(-i k . y_g) over the same
 //    points, for every wave vector 0 < |k| < k_cut.
-// Cost O(N N_src images + (N + N_src) K): for checks and small systems.
+// The real-space sums run over cell lists when the box holds at least 5 x 3 x 3 cells of
+// side r_cut (otherwise over all points and images). The reciprocal part is summed
+// directly, O((N + N_src) K), or by Spectral Ewald when `spectral` is given.
 #include "mesh/icosphere.hpp"
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/single_layer.hpp"
+#include "stokes/spectral_ewald.hpp"
 
 #include <vector>
 
@@ -22,6 +25,7 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
                                     const std::vector<Vec3>& q,
                                     const ShearedLattice& lattice,
                                     const EwaldParameters& ewald,
-                                    const QuadratureOptions& quad, std::vector<Vec3>& u);
+                                    const QuadratureOptions& quad, std::vector<Vec3>& u,
+                                    SpectralEwald* spectral = nullptr);
 
 } // namespace capsim

@@ -123,10 +123,10 @@ TEST_CASE("resume: a killed and resumed run equals an uninterrupted one", "[resu
 TEST_CASE("resume: a killed and resumed suspension run equals an uninterrupted one",
           "[resume]") {
   check_kill_and_resume("suspension",
-                        {"--set", "phi=0.05", "--set", "capsules=2", "--set",
-                         "mesh_level=1", "--set", "t_end=1.5", "--set", "t_avg_start=0.5",
-                         "--set", "output.checkpoint_interval=0.1", "--set", "threads=1",
-                         "-q"},
+                        {"--set", "method=direct", "--set", "phi=0.05", "--set",
+                         "capsules=2", "--set", "mesh_level=1", "--set", "t_end=1.5",
+                         "--set", "t_avg_start=0.5", "--set",
+                         "output.checkpoint_interval=0.1", "--set", "threads=1", "-q"},
                         12);
 }
 

@@ -1,0 +1,40 @@
+#include "stokes/periodic_cells.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace capsim {
+
+PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
+                             const std::vector<Vec3>& points)
+    : g_(g) {
+  for (int a = 0; a < 3; ++a)
+    n_[a] = std::max(1, std::min(512, int(g.L / reach)));
+  const int cells = n_[0] * n_[1] * n_[2];
+  std::vector<int> cell_of(points.size()), count(cells + 1, 0);
+  wrapped_.resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    int c[3];
+    wrapped_[i] = points[i] - wrap(points[i], c);
+    cell_of[i] = (c[2] * n_[1] + c[1]) * n_[0] + c[0];
+    ++count[cell_of[i] + 1];
+  }
+  start_.assign(cells + 1, 0);
+  for (int k = 0; k < cells; ++k)
+    start_[k + 1] = start_[k] + count[k + 1];
+  index_.resize(points.size());
+  std::vector<int> fill(start_.begin(), start_.end() - 1);
+  for (size_t i = 0; i < points.size(); ++i)
+    index_[fill[cell_of[i]]++] = int(i);
+}
+
+Vec3 PeriodicCells::wrap(Vec3 p, int cell[3]) const {
+  const double u2 = p.y / g_.L, u3 = p.z / g_.L, u1 = (p.x - g_.s * p.y) / g_.L;
+  const double f[3] = {std::floor(u1), std::floor(u2), std::floor(u3)};
+  const double u[3] = {u1 - f[0], u2 - f[1], u3 - f[2]};
+  for (int a = 0; a < 3; ++a)
+    cell[a] = std::min(n_[a] - 1, int(u[a] * n_[a]));
+  return lattice_point(g_, f[0], f[1], f[2]);
+}
+
+} // namespace capsim

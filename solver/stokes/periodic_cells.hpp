@@ -1,0 +1,53 @@
+#pragma once
+// Neighbour search in a sheared periodic box: points are wrapped into the primary cell
+// and binned into n1 x n2 x n3 cells in fractional coordinates, each at least `reach`
+// wide. The images of all points within `reach` of any x then lie in the 5 x 3 x 3 cells
+// around x's cell (5 along the flow direction, because the shear tilts the cell by |s| <=
+// 1/2).
+#include "common/vec3.hpp"
+#include "stokes/sheared_lattice.hpp"
+
+#include <vector>
+
+namespace capsim {
+
+class PeriodicCells {
+public:
+  PeriodicCells(const ShearedLattice& g, double reach, const std::vector<Vec3>& points);
+
+  // False when the box holds fewer than 5 x 3 x 3 cells: neighbour cells would repeat,
+  // and callers must loop over all points (and images) instead.
+  bool usable() const { return n_[0] >= 5 && n_[1] >= 3 && n_[2] >= 3; }
+
+  // Calls visit(point_index, image) for every point whose image `image` lies in the cells
+  // around x; the image is the one on x's side of the periodic boundaries.
+  template <class Visit> void for_neighbours(Vec3 x, Visit visit) const {
+    int c[3];
+    Vec3 x_shift = wrap(x, c);
+    for (int d3 = -1; d3 <= 1; ++d3)
+      for (int d2 = -1; d2 <= 1; ++d2)
+        for (int d1 = -2; d1 <= 2; ++d1) {
+          int k[3] = {c[0] + d1, c[1] + d2, c[2] + d3}, o[3];
+          for (int a = 0; a < 3; ++a) {
+            o[a] = k[a] >= n_[a] ? 1 : (k[a] < 0 ? -1 : 0);
+            k[a] -= o[a] * n_[a];
+          }
+          const Vec3 shift = lattice_point(g_, o[0], o[1], o[2]) + x_shift;
+          const int cell = (k[2] * n_[1] + k[1]) * n_[0] + k[0];
+          for (int j = start_[cell]; j < start_[cell + 1]; ++j)
+            visit(index_[j], wrapped_[index_[j]] + shift);
+        }
+  }
+
+private:
+  // Wraps p into the primary cell: returns the lattice vector removed (p - wrapped) and
+  // the cell of the wrapped point.
+  Vec3 wrap(Vec3 p, int cell[3]) const;
+
+  ShearedLattice g_;
+  int n_[3];
+  std::vector<Vec3> wrapped_;
+  std::vector<int> start_, index_;
+};
+
+} // namespace capsim

@@ -1,0 +1,39 @@
+#include "stokes/periodic_cells.hpp"
+
+#include <catch2/catch.hpp>
+#include <random>
+
+using namespace capsim;
+
+TEST_CASE("periodic cells: every image within reach is found once, on a sheared box",
+          "[cells]") {
+  const double L = 7.0, reach = 1.3;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.0, 10.0); // also outside the primary cell
+  std::vector<Vec3> points(400);
+  for (auto& p : points)
+    p = {u(rng), u(rng), u(rng)};
+  for (double strain : {0.0, 0.5, -0.37}) {
+    ShearedLattice g = make_sheared_lattice(L, strain);
+    PeriodicCells cells(g, reach, points);
+    REQUIRE(cells.usable());
+    for (int t = 0; t < 50; ++t) {
+      Vec3 x{u(rng), u(rng), u(rng)};
+      std::vector<int> found;
+      cells.for_neighbours(x, [&](int i, Vec3 image) {
+        if (norm(image - x) < reach) {
+          found.push_back(i);
+          // The image is the point moved by a lattice vector.
+          Vec3 d = wrap_to_cell(g, image - points[i]);
+          CHECK(norm(d) < 1e-9);
+        }
+      });
+      std::vector<int> expected;
+      for (size_t i = 0; i < points.size(); ++i)
+        if (norm(wrap_to_cell(g, x - points[i])) < reach)
+          expected.push_back(int(i));
+      std::sort(found.begin(), found.end());
+      CHECK(found == expected);
+    }
+  }
+}
