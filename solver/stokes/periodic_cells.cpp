@@ -10,6 +10,11 @@ PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
     : g_(g) {
   for (int a = 0; a < 3; ++a)
     n_[a] = std::max(1, std::min(512, int(g.L / reach)));
+  // |du2|, |du3| <= reach/L and |du1| <= 1.5 reach/L (|s| <= 1/2) for images within
+  // reach.
+  w_[0] = int(std::floor(1.5 * reach * n_[0] / g.L)) + 1;
+  w_[1] = int(std::floor(reach * n_[1] / g.L)) + 1;
+  w_[2] = int(std::floor(reach * n_[2] / g.L)) + 1;
   const int cells = n_[0] * n_[1] * n_[2];
   std::vector<int> cell_of(points.size()), count(cells + 1, 0);
   wrapped_.resize(points.size());

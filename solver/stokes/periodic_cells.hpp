@@ -1,9 +1,11 @@
 #pragma once
 // Neighbour search in a sheared periodic box: points are wrapped into the primary cell
 // and binned into n1 x n2 x n3 cells in fractional coordinates, each at least `reach`
-// wide. The images of all points within `reach` of any x then lie in the 5 x 3 x 3 cells
-// around x's cell (5 along the flow direction, because the shear tilts the cell by |s| <=
-// 1/2).
+// wide when the box allows. The images of all points within `reach` of any x then lie in
+// the 5 x 3 x 3 cells around x's cell (5 along the flow direction, because the shear
+// tilts the cell by |s| <= 1/2; wider stencils when reach > L). Each unwrapped cell of
+// the stencil is a distinct (cell, lattice shift) pair, so every image is visited once,
+// also when the stencil meets the same cell under several shifts (several images).
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
 
@@ -15,21 +17,17 @@ class PeriodicCells {
 public:
   PeriodicCells(const ShearedLattice& g, double reach, const std::vector<Vec3>& points);
 
-  // False when the box holds fewer than 5 x 3 x 3 cells: neighbour cells would repeat,
-  // and callers must loop over all points (and images) instead.
-  bool usable() const { return n_[0] >= 5 && n_[1] >= 3 && n_[2] >= 3; }
-
   // Calls visit(point_index, image) for every point whose image `image` lies in the cells
   // around x; the image is the one on x's side of the periodic boundaries.
   template <class Visit> void for_neighbours(Vec3 x, Visit visit) const {
     int c[3];
     Vec3 x_shift = wrap(x, c);
-    for (int d3 = -1; d3 <= 1; ++d3)
-      for (int d2 = -1; d2 <= 1; ++d2)
-        for (int d1 = -2; d1 <= 2; ++d1) {
+    for (int d3 = -w_[2]; d3 <= w_[2]; ++d3)
+      for (int d2 = -w_[1]; d2 <= w_[1]; ++d2)
+        for (int d1 = -w_[0]; d1 <= w_[0]; ++d1) {
           int k[3] = {c[0] + d1, c[1] + d2, c[2] + d3}, o[3];
-          for (int a = 0; a < 3; ++a) {
-            o[a] = k[a] >= n_[a] ? 1 : (k[a] < 0 ? -1 : 0);
+          for (int a = 0; a < 3; ++a) { // floor division: k = o n + (k mod n)
+            o[a] = (k[a] >= 0 ? k[a] : k[a] - n_[a] + 1) / n_[a];
             k[a] -= o[a] * n_[a];
           }
           const Vec3 shift = lattice_point(g_, o[0], o[1], o[2]) + x_shift;
@@ -45,7 +43,8 @@ private:
   Vec3 wrap(Vec3 p, int cell[3]) const;
 
   ShearedLattice g_;
-  int n_[3];
+  int n_[3]; // cells per direction
+  int w_[3]; // stencil half-widths: 2, 1, 1 when the cells are at least `reach` wide
   std::vector<Vec3> wrapped_;
   std::vector<int> start_, index_;
 };

@@ -5,50 +5,11 @@
 #include "stokes/periodic_cells.hpp"
 #include "stokes/triangle_sources.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace capsim {
 namespace {
-
-// Lattice vectors that can bring a wrapped separation (fractional coordinates in
-// [-1/2, 1/2), so |r0| < 1.6 L) within r_cut.
-std::vector<Vec3> real_space_shifts(const ShearedLattice& g, double r_cut) {
-  const double reach = r_cut + 1.6 * g.L;
-  const int n = int(std::ceil(reach / g.L)) + 1;
-  std::vector<Vec3> shifts;
-  for (int n3 = -n; n3 <= n; ++n3)
-    for (int n2 = -n; n2 <= n; ++n2)
-      for (int n1 = -2 * n; n1 <= 2 * n; ++n1) {
-        Vec3 r = lattice_point(g, n1, n2, n3);
-        if (norm(r) < reach)
-          shifts.push_back(r);
-      }
-  // Nearest first, so that a sum can stop at the first shift beyond |r0| + r_cut.
-  std::sort(shifts.begin(), shifts.end(),
-            [](Vec3 a, Vec3 b) { return dot(a, a) < dot(b, b); });
-  return shifts;
-}
-
-// sum_g sum_images J^EI(x - y_g + R) f_g for |x - y_g + R| < r_cut.
-Vec3 real_space_sum(const ShearedLattice& g, Vec3 x, const FarSources& s,
-                    const std::vector<Vec3>& shifts, const EwaldParameters& p) {
-  Vec3 sum;
-  for (size_t k = 0; k < s.size(); ++k) {
-    Vec3 r0 = wrap_to_cell(g, x - Vec3{s.y[0][k], s.y[1][k], s.y[2][k]});
-    Vec3 f{s.f[0][k], s.f[1][k], s.f[2][k]};
-    const double stop = p.r_cut + norm(r0);
-    for (const Vec3& shift : shifts) {
-      if (dot(shift, shift) > stop * stop)
-        break;
-      Vec3 r = r0 + shift;
-      if (dot(r, r) < p.r_cut * p.r_cut)
-        sum += ewald_real_apply(r, f, p.xi);
-    }
-  }
-  return sum;
-}
 
 // 7-point rule of the smooth part (J^EI - J) over one triangle.
 Vec3 smooth_part(Vec3 x, const TriangleLoad& t, double xi) {
@@ -137,26 +98,16 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
   const FarSources far = far_sources(loads);
   const PeriodicCells point_cells(lattice, ewald.r_cut, point_positions(far));
   const PeriodicCells triangle_cells(lattice, quad.far_ratio * max_diam, centroids);
-  const bool use_cells = point_cells.usable() && triangle_cells.usable();
-  const std::vector<Vec3> shifts =
-      use_cells ? std::vector<Vec3>{} : real_space_shifts(lattice, ewald.r_cut);
   const LineRule gl = gauss_legendre_01(quad.singular_points);
   const int n = int(x.size());
   u.assign(n, Vec3{});
 #pragma omp parallel for schedule(dynamic, 8)
   for (int i = 0; i < n; ++i) {
-    if (use_cells) {
-      Vec3 sum = real_space_sum_cells(x[i], far, point_cells, ewald);
-      triangle_cells.for_neighbours(x[i], [&](int t, Vec3) {
-        sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
-      });
-      u[i] = sum;
-    } else {
-      Vec3 sum = real_space_sum(lattice, x[i], far, shifts, ewald);
-      for (int t = 0; t < num_tri; ++t)
-        sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
-      u[i] = sum;
-    }
+    Vec3 sum = real_space_sum_cells(x[i], far, point_cells, ewald);
+    triangle_cells.for_neighbours(x[i], [&](int t, Vec3) {
+      sum += near_correction(lattice, x[i], i, topo, t, loads[t], ewald, quad, gl);
+    });
+    u[i] = sum;
   }
   if (spectral)
     spectral->add_reciprocal(lattice, far, x, u);

@@ -5,35 +5,43 @@
 
 using namespace capsim;
 
-TEST_CASE("periodic cells: every image within reach is found once, on a sheared box",
+TEST_CASE("periodic cells: every image within reach is found once, on a sheared box, "
+          "whatever the number of cells",
           "[cells]") {
-  const double L = 7.0, reach = 1.3;
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-3.0, 10.0); // also outside the primary cell
-  std::vector<Vec3> points(400);
-  for (auto& p : points)
-    p = {u(rng), u(rng), u(rng)};
-  for (double strain : {0.0, 0.5, -0.37}) {
-    ShearedLattice g = make_sheared_lattice(L, strain);
-    PeriodicCells cells(g, reach, points);
-    REQUIRE(cells.usable());
-    for (int t = 0; t < 50; ++t) {
-      Vec3 x{u(rng), u(rng), u(rng)};
-      std::vector<int> found;
-      cells.for_neighbours(x, [&](int i, Vec3 image) {
-        if (norm(image - x) < reach) {
-          found.push_back(i);
-          // The image is the point moved by a lattice vector.
-          Vec3 d = wrap_to_cell(g, image - points[i]);
-          CHECK(norm(d) < 1e-9);
+  const double L = 7.0;
+  for (double reach : {1.3, 3.0, 9.0}) { // 5, 2, 1 cells; 9 > L needs a wider stencil
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-3.0, 10.0); // also outside the primary cell
+    std::vector<Vec3> points(400);
+    for (auto& p : points)
+      p = {u(rng), u(rng), u(rng)};
+    for (double strain : {0.0, 0.5, -0.37}) {
+      ShearedLattice g = make_sheared_lattice(L, strain);
+      PeriodicCells cells(g, reach, points);
+      for (int t = 0; t < 50; ++t) {
+        Vec3 x{u(rng), u(rng), u(rng)};
+        std::vector<int> found;
+        cells.for_neighbours(x, [&](int i, Vec3 image) {
+          if (norm(image - x) < reach) {
+            found.push_back(i);
+            // The image is the point moved by a lattice vector.
+            Vec3 d = wrap_to_cell(g, image - points[i]);
+            CHECK(norm(d) < 1e-9);
+          }
+        });
+        std::vector<int> expected; // every image within reach, by brute force
+        for (size_t i = 0; i < points.size(); ++i) {
+          Vec3 r0 = wrap_to_cell(g, x - points[i]);
+          for (int n3 = -3; n3 <= 3; ++n3)
+            for (int n2 = -3; n2 <= 3; ++n2)
+              for (int n1 = -4; n1 <= 4; ++n1)
+                if (norm(r0 + lattice_point(g, n1, n2, n3)) < reach)
+                  expected.push_back(int(i));
         }
-      });
-      std::vector<int> expected;
-      for (size_t i = 0; i < points.size(); ++i)
-        if (norm(wrap_to_cell(g, x - points[i])) < reach)
-          expected.push_back(int(i));
-      std::sort(found.begin(), found.end());
-      CHECK(found == expected);
+        std::sort(expected.begin(), expected.end());
+        std::sort(found.begin(), found.end());
+        CHECK(found == expected);
+      }
     }
   }
 }
