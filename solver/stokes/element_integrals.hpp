@@ -31,16 +31,24 @@ CAPSIM_HD Vec3 triangle_centroid(const Vec3 p[3]) {
   return (1.0 / 3.0) * (p[0] + p[1] + p[2]);
 }
 
-// Gauss rule on the whole triangle; accurate when x is far compared with the diameter.
-CAPSIM_HD Vec3 integrate_regular(Vec3 x, const TriangleLoad& t, TriangleRule rule) {
+// A triangle rule applied to kernel(r, q) -> Vec3 (the Stokeslet, or a screened part of
+// it) times the linear load: sum_g w_g A kernel(x - y_g, q(y_g)).
+template <class Kernel>
+CAPSIM_HD Vec3 integrate_rule(Vec3 x, const TriangleLoad& t, TriangleRule rule,
+                              Kernel kernel) {
   double area = 0.5 * norm(area_vector2(t.p[0], t.p[1], t.p[2]));
   Vec3 sum;
   for (int g = 0; g < rule.n; ++g) {
     Vec3 y = barycentric(t.p, rule.l1[g], rule.l2[g]);
     Vec3 q = barycentric(t.q, rule.l1[g], rule.l2[g]);
-    sum += (rule.w[g] * area) * stokeslet_apply(x - y, q);
+    sum += (rule.w[g] * area) * kernel(x - y, q);
   }
   return sum;
+}
+
+// Gauss rule on the whole triangle; accurate when x is far compared with the diameter.
+CAPSIM_HD Vec3 integrate_regular(Vec3 x, const TriangleLoad& t, TriangleRule rule) {
+  return integrate_rule(x, t, rule, [](Vec3 r, Vec3 q) { return stokeslet_apply(r, q); });
 }
 
 // Target at vertex k. With y = p_k + s d(t), d(t) = (1-t)(p_k1 - p_k) + t(p_k2 - p_k) and

@@ -11,25 +11,11 @@
 namespace capsim {
 namespace {
 
-// 7-point rule of the smooth part (J^EI - J) over one triangle.
-Vec3 smooth_part(Vec3 x, const TriangleLoad& t, double xi) {
-  const TriangleRule rule = triangle_rule_7();
-  double area = 0.5 * norm(area_vector2(t.p[0], t.p[1], t.p[2]));
-  Vec3 sum;
-  for (int k = 0; k < rule.n; ++k) {
-    Vec3 y = barycentric(t.p, rule.l1[k], rule.l2[k]);
-    Vec3 qk = barycentric(t.q, rule.l1[k], rule.l2[k]);
-    sum += (rule.w[k] * area) * ewald_real_minus_free_apply(x - y, qk, xi);
-  }
-  return sum;
-}
-
 // Correction for the image of triangle t nearest to x, if it is near: the accurate
 // screened integral minus the far-rule screened sum already counted for it.
 Vec3 near_correction(const ShearedLattice& g, Vec3 x, int node, const Topology& topo,
                      int t_global, TriangleLoad load, const EwaldParameters& p,
                      const QuadratureOptions& o, const LineRule& gl) {
-  const int nt = int(topo.triangles.size());
   const Vec3 c = triangle_centroid(load.p);
   const Vec3 d = wrap_to_cell(g, x - c);
   const double diam = triangle_diameter(load.p);
@@ -38,23 +24,17 @@ Vec3 near_correction(const ShearedLattice& g, Vec3 x, int node, const Topology& 
   const Vec3 shift = (x - d) - c; // lattice vector to the nearest image
   for (auto& v : load.p)
     v += shift;
-  int vertex = -1;
-  if (node / topo.num_nodes == t_global / nt && norm(shift) < 1e-9 * g.L)
-    for (int k = 0; k < 3; ++k)
-      if (topo.triangles[t_global % nt][k] == node % topo.num_nodes)
-        vertex = k;
-  Vec3 accurate = vertex >= 0 ? integrate_singular_vertex(vertex, load, gl.x.data(),
-                                                          gl.w.data(), int(gl.x.size()))
-                              : integrate_adaptive(x, load, o.near_ratio, o.max_depth);
-  accurate += smooth_part(x, load, p.xi);
-  const TriangleRule rule = triangle_rule_3();
-  double area = 0.5 * norm(area_vector2(load.p[0], load.p[1], load.p[2]));
-  for (int k = 0; k < rule.n; ++k) {
-    Vec3 y = barycentric(load.p, rule.l1[k], rule.l2[k]);
-    Vec3 qk = barycentric(load.q, rule.l1[k], rule.l2[k]);
-    accurate -= (rule.w[k] * area) * ewald_real_apply(x - y, qk, p.xi);
-  }
-  return accurate;
+  // The singular rule only for the triangle's own image (shift 0) at its own vertex.
+  const int vertex = norm(shift) < 1e-9 * g.L ? vertex_index(topo, node, t_global) : -1;
+  const auto screened = [&](Vec3 r, Vec3 f) { return ewald_real_apply(r, f, p.xi); };
+  const auto smooth = [&](Vec3 r, Vec3 f) {
+    return ewald_real_minus_free_apply(r, f, p.xi);
+  };
+  // Accurate J, plus the bounded J^EI - J by the 7-point rule, minus what the far rule of
+  // the screened kernel already counted.
+  return accurate_single_layer(x, vertex, load, o, gl) +
+         integrate_rule(x, load, triangle_rule_7(), smooth) -
+         integrate_rule(x, load, triangle_rule_3(), screened);
 }
 
 // sum over the far-rule points within r_cut (all images), through the cell list.

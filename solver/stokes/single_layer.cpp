@@ -39,19 +39,11 @@ CAPSIM_VECTOR_CLONES Vec3 far_sum(Vec3 x, const FarSources& s) {
 }
 
 // Accurate integral of triangle t minus what the far rule already counted for it.
-Vec3 near_correction(Vec3 x, int node_local, int node_capsule, int t_global, int nt,
-                     const Topology& topo, const TriangleLoad& load,
-                     const QuadratureOptions& o, const LineRule& gl) {
-  const Triangle& tri = topo.triangles[t_global % nt];
-  int vertex = -1;
-  if (t_global / nt == node_capsule)
-    for (int k = 0; k < 3; ++k)
-      if (tri[k] == node_local)
-        vertex = k;
-  Vec3 accurate = vertex >= 0 ? integrate_singular_vertex(vertex, load, gl.x.data(),
-                                                          gl.w.data(), int(gl.x.size()))
-                              : integrate_adaptive(x, load, o.near_ratio, o.max_depth);
-  return accurate - integrate_regular(x, load, triangle_rule_3());
+Vec3 near_correction(Vec3 x, int node, int t_global, const Topology& topo,
+                     const TriangleLoad& load, const QuadratureOptions& o,
+                     const LineRule& gl) {
+  return accurate_single_layer(x, vertex_index(topo, node, t_global), load, o, gl) -
+         integrate_regular(x, load, triangle_rule_3());
 }
 
 } // namespace
@@ -88,8 +80,7 @@ void single_layer_velocity(const Topology& topo, int num_capsules,
     Vec3 sum = u[i];
     for (int k = near.offset[i]; k < near.offset[i + 1]; ++k) {
       int t = near.triangle[k];
-      sum += near_correction(x[i], i % topo.num_nodes, i / topo.num_nodes, t, nt, topo,
-                             loads[t], opts, gl);
+      sum += near_correction(x[i], i, t, topo, loads[t], opts, gl);
     }
     u[i] = (-1.0 / (8.0 * kPi)) * sum;
   }

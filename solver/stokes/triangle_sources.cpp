@@ -35,4 +35,22 @@ FarSources far_sources(const std::vector<TriangleLoad>& loads) {
   return s;
 }
 
+int vertex_index(const Topology& topo, int node, int t_global) {
+  const int nt = int(topo.triangles.size());
+  if (node / topo.num_nodes != t_global / nt)
+    return -1;
+  for (int k = 0; k < 3; ++k)
+    if (topo.triangles[t_global % nt][k] == node % topo.num_nodes)
+      return k;
+  return -1;
+}
+
+Vec3 accurate_single_layer(Vec3 x, int vertex, const TriangleLoad& t,
+                           const QuadratureOptions& o, const LineRule& gl) {
+  if (vertex >= 0)
+    return integrate_singular_vertex(vertex, t, gl.x.data(), gl.w.data(),
+                                     int(gl.x.size()));
+  return integrate_adaptive(x, t, o.near_ratio, o.max_depth);
+}
+
 } // namespace capsim

@@ -4,6 +4,7 @@
 // sums.
 #include "mesh/icosphere.hpp"
 #include "stokes/element_integrals.hpp"
+#include "stokes/single_layer.hpp"
 
 #include <vector>
 
@@ -21,5 +22,14 @@ TriangleLoad triangle_load(const Topology& topo, const std::vector<Vec3>& x,
                            const std::vector<Vec3>& q, int global_triangle);
 
 FarSources far_sources(const std::vector<TriangleLoad>& loads);
+
+// Which vertex (0-2) of triangle `t_global` the node `node` (both global, capsule after
+// capsule) is, or -1.
+int vertex_index(const Topology& topo, int node, int t_global);
+
+// The accurate int J(x - y) q dA over one triangle: the polar rule when x is its vertex
+// `vertex`, adaptive subdivision otherwise.
+Vec3 accurate_single_layer(Vec3 x, int vertex, const TriangleLoad& t,
+                           const QuadratureOptions& o, const LineRule& gl);
 
 } // namespace capsim
