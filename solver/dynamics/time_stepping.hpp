@@ -6,7 +6,6 @@
 #include "stokes/single_layer.hpp"
 #include "stokes/spectral_ewald.hpp"
 
-#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>

@@ -7,9 +7,11 @@ def dilute_dir(wildcards):
     return f"results/dilute/ca{wildcards.ca}_level{wildcards.level}"
 
 
+# The solver is an input only to be built first: ancient() keeps a rebuilt binary from
+# re-running finished runs (a physics change means a new results folder, not a rerun).
 rule dilute_run:
     input:
-        CAPSIM,
+        ancient(CAPSIM),
     output:
         "results/dilute/ca{ca}_level{level}/summary.json",
     log:
