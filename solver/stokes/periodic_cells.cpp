@@ -9,7 +9,10 @@ PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
                              const std::vector<Vec3>& points)
     : g_(g) {
   for (int a = 0; a < 3; ++a)
-    n_[a] = std::max(1, std::min(512, int(g.L / reach)));
+    // Cells a third of `reach` wide: the stencil then covers 33 reach^3 instead of 45
+    // (or, with one cell per reach in a box of a few reaches, over 100), for 4.2 inside
+    // reach.
+    n_[a] = std::max(1, std::min(128, int(3.0 * g.L / reach)));
   // |du2|, |du3| <= reach/L and |du1| <= 1.5 reach/L (|s| <= 1/2) for images within
   // reach.
   w_[0] = int(std::floor(1.5 * reach * n_[0] / g.L)) + 1;
