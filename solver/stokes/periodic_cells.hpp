@@ -1,11 +1,11 @@
 #pragma once
 // Neighbour search in a sheared periodic box: points are wrapped into the primary cell
-// and binned into n1 x n2 x n3 cells in fractional coordinates, each at least `reach`
-// wide when the box allows. The images of all points within `reach` of any x then lie in
-// the 5 x 3 x 3 cells around x's cell (5 along the flow direction, because the shear
-// tilts the cell by |s| <= 1/2; wider stencils when reach > L). Each unwrapped cell of
-// the stencil is a distinct (cell, lattice shift) pair, so every image is visited once,
-// also when the stencil meets the same cell under several shifts (several images).
+// and binned into cells in fractional coordinates (about a third of `reach` wide). The
+// images of all points within `reach` of any x lie in a stencil of cells around x's cell,
+// half widths floor(1.5 reach n/L) + 1 along the flow (the shear tilts the cell by |s| <=
+// 1/2) and floor(reach n/L) + 1 across it. Each unwrapped cell of the stencil is a
+// distinct (cell, lattice shift) pair, so every image is visited once, also when the
+// stencil meets the same cell under several shifts (several images, reach > L).
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
 
@@ -44,7 +44,7 @@ private:
 
   ShearedLattice g_;
   int n_[3]; // cells per direction
-  int w_[3]; // stencil half-widths: 2, 1, 1 when the cells are at least `reach` wide
+  int w_[3]; // stencil half-widths
   std::vector<Vec3> wrapped_;
   std::vector<int> start_, index_;
 };
