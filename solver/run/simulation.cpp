@@ -85,11 +85,10 @@ public:
   RunLoop(const RunOptions& o, std::string dir, bool quiet)
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca),
-        box_(periodic_box(o, mesh_.topology,
-                          mean_edge_length(mesh_.topology, mesh_.positions.data()))),
+        h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
+        box_(periodic_box(o, mesh_.topology, h_)),
         flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load, o.quadrature,
               box_) {
-    h_ = mean_edge_length(mesh_.topology, mesh_.positions.data());
     dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety);
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
     sample_every_ = steps_for(o.output.sample_interval, dt_);
@@ -116,9 +115,10 @@ private:
   bool quiet_;
   Icosphere mesh_;
   Membrane membrane_;
+  double h_; // mean edge of the undeformed mesh: sets dt and the Ewald xi
   PeriodicBox box_;
   CapsuleFlow flow_;
-  double h_, dt_;
+  double dt_;
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
   long step_ = 0, rows_written_ = 0;
   std::vector<Vec3> x_;

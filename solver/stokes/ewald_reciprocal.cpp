@@ -7,20 +7,6 @@
 
 namespace capsim {
 
-std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut) {
-  const int m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
-  std::vector<Vec3> ks;
-  for (int m3 = -m; m3 <= m; ++m3)
-    for (int m1 = -m; m1 <= m; ++m1)
-      for (int m2 = -m - 1; m2 <= m + 1; ++m2) {
-        Vec3 k = reciprocal_point(g, m1, m2 + std::round(g.s * m1), m3);
-        double kk = norm(k);
-        if (kk > 0 && kk < k_cut)
-          ks.push_back(k);
-      }
-  return ks;
-}
-
 // (8 pi / V) sum_k w(k) (I - k k / k^2) Re[exp(i k . x) S(k)] at every node. The
 // structure factors are computed first (in parallel over k), then each node sums over k:
 // two parallel loops in all, not one per wave vector.

@@ -10,9 +10,6 @@
 
 namespace capsim {
 
-// Wave vectors of the sheared lattice with 0 < |k| < k_cut.
-std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut);
-
 // Adds the reciprocal-space sum (without the -1/(8 pi) factor) to u at the targets x.
 void ewald_reciprocal_direct(const ShearedLattice& g, const std::vector<Vec3>& x,
                              const FarSources& s, const EwaldParameters& p,

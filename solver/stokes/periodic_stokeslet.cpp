@@ -53,6 +53,20 @@ double balanced_xi(double L, double tolerance, long targets, long sources) {
   return std::max(std::pow(xi6, 1.0 / 6.0), kSqrtPi / L);
 }
 
+std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut) {
+  const int m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
+  std::vector<Vec3> ks;
+  for (int m3 = -m; m3 <= m; ++m3)
+    for (int m1 = -m; m1 <= m; ++m1)
+      for (int m2 = -m - 1; m2 <= m + 1; ++m2) {
+        Vec3 k = reciprocal_point(g, m1, m2 + std::round(g.s * m1), m3);
+        double kk = norm(k);
+        if (kk > 0 && kk < k_cut)
+          ks.push_back(k);
+      }
+  return ks;
+}
+
 Mat3 periodic_stokeslet(const ShearedLattice& g, Vec3 r, const EwaldParameters& p,
                         EwaldCounts* counts) {
   Mat3 j;
@@ -74,19 +88,12 @@ Mat3 periodic_stokeslet(const ShearedLattice& g, Vec3 r, const EwaldParameters& 
         ++n.images;
       }
   const double volume = g.L * g.L * g.L;
-  const int mk = int(std::ceil(p.k_cut * g.L / (2.0 * kPi))) + 1;
-  for (int m3 = -mk; m3 <= mk; ++m3)
-    for (int m1 = -mk; m1 <= mk; ++m1)
-      for (int m2 = -mk - 1; m2 <= mk + 1; ++m2) {
-        Vec3 k = reciprocal_point(g, m1, m2 + std::round(g.s * m1), m3);
-        double kk = norm(k);
-        if (kk >= p.k_cut || kk == 0)
-          continue;
-        double c = 8.0 * kPi / volume * std::cos(dot(k, r0));
-        for (int col = 0; col < 3; ++col)
-          add_column(j, col, c * ewald_recip_apply(k, kUnit[col], p.xi));
-        ++n.wave_vectors;
-      }
+  for (const Vec3& k : wave_vectors(g, p.k_cut)) {
+    double c = 8.0 * kPi / volume * std::cos(dot(k, r0));
+    for (int col = 0; col < 3; ++col)
+      add_column(j, col, c * ewald_recip_apply(k, kUnit[col], p.xi));
+    ++n.wave_vectors;
+  }
   if (counts)
     *counts = n;
   return j;

@@ -4,6 +4,8 @@
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
 
+#include <vector>
+
 namespace capsim {
 
 struct EwaldParameters {
@@ -24,6 +26,9 @@ EwaldParameters choose_ewald_parameters(double L, double tolerance, double xi = 
 // xi^6 = targets sources pi^3 x_c^3 / ((targets + sources) V^2 q_c^(3/2)), with x_c, q_c
 // the dimensionless cut-offs of `tolerance`. Never below sqrt(pi)/L.
 double balanced_xi(double L, double tolerance, long targets, long sources);
+
+// Wave vectors of the sheared lattice with 0 < |k| < k_cut.
+std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut);
 
 struct EwaldCounts {
   long images = 0, wave_vectors = 0;
