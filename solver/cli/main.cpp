@@ -3,6 +3,7 @@
 #include "config/run_options.hpp"
 #include "dynamics/time_stepping.hpp"
 #include "io/json_writer.hpp"
+#include "run/bench.hpp"
 #include "run/multipole_error.hpp"
 #include "run/simulation.hpp"
 #include "stokes/periodic_stokeslet.hpp"
@@ -10,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <omp.h>
 
 namespace {
 
@@ -123,6 +125,40 @@ int multipole_command(const MultipoleArgs& a) {
   return 0;
 }
 
+struct BenchArgs {
+  capsim::BenchOptions o;
+  int threads = 0;
+};
+
+void add_bench_command(CLI::App& app, BenchArgs& a) {
+  CLI::App* b = app.add_subcommand(
+      "bench", "Time one periodic single-layer evaluation of M capsules and measure its "
+               "error against a tight direct Ewald reference; prints JSON");
+  b->add_option("--capsules", a.o.capsules, "capsules M in the box")
+      ->capture_default_str();
+  b->add_option("--mesh-level", a.o.mesh_level, "icosphere level")->capture_default_str();
+  b->add_option("--phi", a.o.phi, "volume fraction")->capture_default_str();
+  b->add_option("--method", a.o.method, "spectral | direct")->capture_default_str();
+  b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")->capture_default_str();
+  b->add_option("--strain", a.o.strain, "lattice strain offset")->capture_default_str();
+  b->add_option("--seed", a.o.seed, "packing seed")->capture_default_str();
+  b->add_option("--xi", a.o.xi, "Ewald xi (default: automatic, as in `capsim run`)");
+  b->add_option("--repeats", a.o.repeats, "timed evaluations")->capture_default_str();
+  b->add_option("--reference", a.o.reference_file,
+                "file caching the reference velocities of this configuration");
+  b->add_flag(
+      "--no-reference", [&a](int64_t) { a.o.reference = false; },
+      "skip the reference and the error");
+  b->add_option("--threads", a.threads, "OpenMP threads (default: all)");
+}
+
+int bench_command(const BenchArgs& a) {
+  if (a.threads > 0)
+    omp_set_num_threads(a.threads);
+  std::cout << capsim::run_benchmark(a.o) << "\n";
+  return 0;
+}
+
 int run_command(const RunArgs& a) {
   capsim::RunRequest request;
   request.quiet = a.quiet;
@@ -163,12 +199,16 @@ int main(int argc, char** argv) {
   add_greens_command(app, greens_args);
   MultipoleArgs multipole_args;
   add_multipole_command(app, multipole_args);
+  BenchArgs bench_args;
+  add_bench_command(app, bench_args);
   CLI11_PARSE(app, argc, argv);
   try {
     if (app.got_subcommand("greens"))
       return greens_command(greens_args);
     if (app.got_subcommand("multipole-error"))
       return multipole_command(multipole_args);
+    if (app.got_subcommand("bench"))
+      return bench_command(bench_args);
     if (params->parsed()) {
       std::cout << capsim::parameter_table_markdown();
       return 0;

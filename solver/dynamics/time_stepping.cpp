@@ -8,6 +8,20 @@
 
 namespace capsim {
 
+PeriodicBox make_periodic_box(double L, const std::string& method, double tolerance,
+                              double xi, long nodes, long points) {
+  PeriodicBox box;
+  box.L = L;
+  box.spectral = method == "spectral";
+  if (xi <= 0)
+    xi = box.spectral ? spectral_xi(L, tolerance, nodes, points)
+                      : balanced_xi(L, tolerance, nodes, points);
+  box.ewald = choose_ewald_parameters(L, tolerance, xi);
+  if (box.spectral)
+    box.grid = choose_spectral_parameters(L, box.ewald, tolerance);
+  return box;
+}
+
 CapsuleFlow::CapsuleFlow(const Membrane& membrane, int num_capsules, double shear_rate,
                          LoadMapping load, QuadratureOptions quadrature, PeriodicBox box)
     : membrane_(membrane), num_capsules_(num_capsules), shear_rate_(shear_rate),

@@ -28,6 +28,11 @@ struct PeriodicBox {
   SpectralParameters grid; // its grid, when spectral
 };
 
+// The box of side L for `method` (spectral | direct) at `tolerance`: xi as given, or
+// (xi <= 0) chosen for speed from the numbers of target nodes and source points.
+PeriodicBox make_periodic_box(double L, const std::string& method, double tolerance,
+                              double xi, long nodes, long points);
+
 // The velocity field of M capsules in simple shear v_inf = (shear_rate y, 0, 0)
 // (shear_rate = 0: quiescent fluid), unbounded or in a sheared periodic box.
 class CapsuleFlow {

@@ -33,30 +33,15 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The periodic box for phi > 0: side L = (M 4 pi / (3 phi))^(1/3) (DESIGN.md 1) and Ewald
-// parameters from the tolerance; none (L = 0) in the dilute limit.
-PeriodicBox periodic_box(const RunOptions& o, const Topology& topo, double mean_edge) {
+// The periodic box for phi > 0: side L = (M 4 pi / (3 phi))^(1/3) (DESIGN.md 1); none
+// (L = 0) in the dilute limit.
+PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   if (o.phi <= 0)
     return {};
-  PeriodicBox box;
-  box.L = std::cbrt(o.capsules * 4.0 * kPi / (3.0 * o.phi));
+  const double L = std::cbrt(o.capsules * 4.0 * kPi / (3.0 * o.phi));
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
-  box.spectral = o.method == "spectral";
-  double xi = o.ewald.xi;
-  if (xi <= 0 && box.spectral) {
-    // Short real-space sums (cell lists need r_cut <= L/5), the FFT grid carries the
-    // rest; but the screened kernel must stay smooth on the scale of the triangles, whose
-    // 3-point rule integrates it (xi h <= 0.25 kept that error below 1e-5 in the tests).
-    const double x_cut = choose_ewald_parameters(box.L, o.ewald.tolerance, 1.0).r_cut;
-    xi = std::min(x_cut / std::min(box.L / 5.0, 1.5), 0.25 / mean_edge);
-  } else if (xi <= 0) {
-    xi = balanced_xi(box.L, o.ewald.tolerance, nodes, points);
-  }
-  box.ewald = choose_ewald_parameters(box.L, o.ewald.tolerance, xi);
-  if (box.spectral)
-    box.grid = choose_spectral_parameters(box.L, box.ewald, o.ewald.tolerance);
-  return box;
+  return make_periodic_box(L, o.method, o.ewald.tolerance, o.ewald.xi, nodes, points);
 }
 
 long steps_for(double interval, double dt) {
@@ -86,7 +71,7 @@ public:
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
-        box_(periodic_box(o, mesh_.topology, h_)),
+        box_(periodic_box(o, mesh_.topology)),
         flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load, o.quadrature,
               box_) {
     dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety);
@@ -115,7 +100,7 @@ private:
   bool quiet_;
   Icosphere mesh_;
   Membrane membrane_;
-  double h_; // mean edge of the undeformed mesh: sets dt and the Ewald xi
+  double h_; // mean edge of the undeformed mesh: sets dt
   PeriodicBox box_;
   CapsuleFlow flow_;
   double dt_;

@@ -2,6 +2,7 @@
 // Pointwise terms of the Beenakker/Hasimoto split of the periodic Stokeslet
 // (paper eqs. 2.3-2.7), in the normalisation J = d/r + r r / r^3 of eq. 2.2:
 //   J^E(r) = sum_images J^EI(r_n) + (8 pi / V) sum_{k != 0} J^EII(k) cos(k . r)
+#include "common/fast_special.hpp"
 #include "common/vec3.hpp"
 
 #include <cmath>
@@ -10,12 +11,16 @@ namespace capsim {
 
 constexpr double kSqrtPi = 1.77245385090551602730;
 
-// Real-space screened Stokeslet applied to f (eqs. 2.4, 2.6, 2.7).
+// Real-space screened Stokeslet applied to f (eqs. 2.4, 2.6, 2.7), with erfc(x) written
+// as exp(-x^2) erfcx(x) through the branch-free functions of fast_special.hpp, so that
+// loops over sources vectorise.
 CAPSIM_HD Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
-  double rr = std::sqrt(dot(r, r)), x = xi * rr, x3 = x * x * x;
-  double g = std::exp(-x * x) / kSqrtPi, c = std::erfc(x);
-  double e1 = c + g * (4.0 * x3 - 6.0 * x), e2 = c + g * (2.0 * x - 4.0 * x3);
-  return (e1 / rr) * f + (e2 * dot(r, f) / (rr * rr * rr)) * r;
+  const double rr = std::sqrt(dot(r, r)), x = xi * rr, x3 = x * x * x;
+  const double g = exp_nonpositive(-x * x), c = erfcx_nonnegative(x);
+  const double e1 = g * (c + (4.0 * x3 - 6.0 * x) / kSqrtPi);
+  const double e2 = g * (c + (2.0 * x - 4.0 * x3) / kSqrtPi);
+  const double rinv = 1.0 / rr;
+  return (e1 * rinv) * f + (e2 * dot(r, f) * rinv * rinv * rinv) * r;
 }
 
 // The real-space kernel minus the free-space Stokeslet: bounded at r = 0, where it tends

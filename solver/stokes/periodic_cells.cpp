@@ -7,23 +7,19 @@ namespace capsim {
 
 PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
                              const std::vector<Vec3>& points)
-    : g_(g) {
+    : g_(g), reach_(reach) {
   for (int a = 0; a < 3; ++a)
-    // Cells a third of `reach` wide: the stencil then covers 33 reach^3 instead of 45
-    // (or, with one cell per reach in a box of a few reaches, over 100), for 4.2 inside
-    // reach.
+    // Cells a third of `reach` wide: the cells the sphere meets then hold about twice
+    // its volume, where one cell per reach would hold over six times it.
     n_[a] = std::max(1, std::min(128, int(3.0 * g.L / reach)));
-  // |du2|, |du3| <= reach/L and |du1| <= 1.5 reach/L (|s| <= 1/2) for images within
-  // reach.
-  w_[0] = int(std::floor(1.5 * reach * n_[0] / g.L)) + 1;
-  w_[1] = int(std::floor(reach * n_[1] / g.L)) + 1;
-  w_[2] = int(std::floor(reach * n_[2] / g.L)) + 1;
+  // |du2|, |du3| <= reach/L for images within reach.
+  half_rows_ = int(std::floor(reach * n_[1] / g.L)) + 1;
+  half_layers_ = int(std::floor(reach * n_[2] / g.L)) + 1;
   const int cells = n_[0] * n_[1] * n_[2];
   std::vector<int> cell_of(points.size()), count(cells + 1, 0);
-  wrapped_.resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     int c[3];
-    wrapped_[i] = points[i] - wrap(points[i], c);
+    wrap(points[i], c);
     cell_of[i] = (c[2] * n_[1] + c[1]) * n_[0] + c[0];
     ++count[cell_of[i] + 1];
   }
@@ -32,16 +28,24 @@ PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
     start_[k + 1] = start_[k] + count[k + 1];
   index_.resize(points.size());
   std::vector<int> fill(start_.begin(), start_.end() - 1);
-  for (size_t i = 0; i < points.size(); ++i)
-    index_[fill[cell_of[i]]++] = int(i);
+  wrapped_.resize(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    int c[3];
+    const int j = fill[cell_of[i]]++;
+    index_[j] = int(i);
+    wrapped_[j] = points[i] - wrap(points[i], c);
+  }
 }
 
-Vec3 PeriodicCells::wrap(Vec3 p, int cell[3]) const {
+Vec3 PeriodicCells::wrap(Vec3 p, int cell[3], double* frac) const {
   const double u2 = p.y / g_.L, u3 = p.z / g_.L, u1 = (p.x - g_.s * p.y) / g_.L;
   const double f[3] = {std::floor(u1), std::floor(u2), std::floor(u3)};
   const double u[3] = {u1 - f[0], u2 - f[1], u3 - f[2]};
-  for (int a = 0; a < 3; ++a)
+  for (int a = 0; a < 3; ++a) {
     cell[a] = std::min(n_[a] - 1, int(u[a] * n_[a]));
+    if (frac)
+      frac[a] = u[a] * n_[a] - cell[a];
+  }
   return lattice_point(g_, f[0], f[1], f[2]);
 }
 

@@ -1,14 +1,16 @@
 #pragma once
 // Neighbour search in a sheared periodic box: points are wrapped into the primary cell
 // and binned into cells in fractional coordinates (about a third of `reach` wide). The
-// images of all points within `reach` of any x lie in a stencil of cells around x's cell,
-// half widths floor(1.5 reach n/L) + 1 along the flow (the shear tilts the cell by |s| <=
-// 1/2) and floor(reach n/L) + 1 across it. Each unwrapped cell of the stencil is a
-// distinct (cell, lattice shift) pair, so every image is visited once, also when the
-// stencil meets the same cell under several shifts (several images, reach > L).
+// images of all points within `reach` of any x lie in the cells around x's cell that the
+// sphere of radius `reach` meets: layers and rows across the flow up to floor(reach n/L)
+// + 1 cells away, and along each row the cells that the sphere's chord (widened by the
+// shear tilt of the row) covers. Each unwrapped cell is a distinct (cell, lattice shift)
+// pair, so every image is visited once, also when the same cell is met under several
+// shifts (several images, reach > L).
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace capsim {
@@ -17,36 +19,76 @@ class PeriodicCells {
 public:
   PeriodicCells(const ShearedLattice& g, double reach, const std::vector<Vec3>& points);
 
-  // Calls visit(point_index, image) for every point whose image `image` lies in the cells
+  // Calls visit(begin, end, shift) for runs [begin, end) of points in cell order
+  // (`point(j)`, `wrapped(j)`) whose images wrapped(j) + shift cover the cells around x.
+  // The cells along the flow direction are contiguous in that order, so one row of the
+  // stencil is one or two runs: few calls, and long contiguous loops for the caller.
+  template <class Visit> void for_neighbour_runs(Vec3 x, Visit visit) const {
+    int c[3];
+    double f[3]; // x's place inside its cell, in cell widths
+    const Vec3 x_shift = wrap(x, c, f);
+    const double h[3] = {g_.L / n_[0], g_.L / n_[1], g_.L / n_[2]};
+    // Distance across rows (y) and layers (z) from x to the cells d away, in length.
+    auto gap = [&](int d, int a) {
+      return h[a] * (d > 0 ? d - f[a] : d < 0 ? f[a] - d - 1 : 0.0);
+    };
+    for (int d3 = -half_layers_; d3 <= half_layers_; ++d3) {
+      const double dz = gap(d3, 2);
+      for (int d2 = -half_rows_; d2 <= half_rows_; ++d2) {
+        const double dy = gap(d2, 1), rest = reach_ * reach_ - dy * dy - dz * dz;
+        if (rest < 0)
+          continue;
+        // Along the flow, x - y = h0 dc1 + s h1 dc2 (dc in cell widths, dc2 over the
+        // row): the cells with |x - y| <= rho for some dc2 in [d2 - f1, d2 + 1 - f1].
+        const double rho = std::sqrt(rest);
+        const double t0 = g_.s * h[1] * (d2 - f[1]), t1 = g_.s * h[1] * (d2 + 1 - f[1]);
+        const double lo = (-rho - std::max(t0, t1)) / h[0] + f[0];
+        const double hi = (rho - std::min(t0, t1)) / h[0] + f[0];
+        int k[3] = {0, c[1] + d2, c[2] + d3}, o[3];
+        for (int a = 1; a < 3; ++a) {
+          o[a] = floor_div(k[a], n_[a]);
+          k[a] -= o[a] * n_[a];
+        }
+        const int row = (k[2] * n_[1] + k[1]) * n_[0];
+        // Cells first .. last along the flow, split where they wrap around.
+        for (int k1 = c[0] + int(std::floor(lo)), last = c[0] + int(std::floor(hi));
+             k1 <= last;) {
+          const int o1 = floor_div(k1, n_[0]), first = k1 - o1 * n_[0];
+          const int end = std::min(n_[0] - 1, first + (last - k1));
+          const Vec3 shift = lattice_point(g_, o1, o[1], o[2]) + x_shift;
+          visit(start_[row + first], start_[row + end + 1], shift);
+          k1 += end - first + 1;
+        }
+      }
+    }
+  }
+
+  // Calls visit(point_index, image) for every point whose image lies in the cells
   // around x; the image is the one on x's side of the periodic boundaries.
   template <class Visit> void for_neighbours(Vec3 x, Visit visit) const {
-    int c[3];
-    Vec3 x_shift = wrap(x, c);
-    for (int d3 = -w_[2]; d3 <= w_[2]; ++d3)
-      for (int d2 = -w_[1]; d2 <= w_[1]; ++d2)
-        for (int d1 = -w_[0]; d1 <= w_[0]; ++d1) {
-          int k[3] = {c[0] + d1, c[1] + d2, c[2] + d3}, o[3];
-          for (int a = 0; a < 3; ++a) { // floor division: k = o n + (k mod n)
-            o[a] = (k[a] >= 0 ? k[a] : k[a] - n_[a] + 1) / n_[a];
-            k[a] -= o[a] * n_[a];
-          }
-          const Vec3 shift = lattice_point(g_, o[0], o[1], o[2]) + x_shift;
-          const int cell = (k[2] * n_[1] + k[1]) * n_[0] + k[0];
-          for (int j = start_[cell]; j < start_[cell + 1]; ++j)
-            visit(index_[j], wrapped_[index_[j]] + shift);
-        }
+    for_neighbour_runs(x, [&](int begin, int end, Vec3 shift) {
+      for (int j = begin; j < end; ++j)
+        visit(index_[j], wrapped_[j] + shift);
+    });
   }
+
+  int size() const { return int(index_.size()); }
+  int point(int j) const { return index_[j]; }             // the j-th point in cell order
+  const Vec3& wrapped(int j) const { return wrapped_[j]; } // and its wrapped position
 
 private:
   // Wraps p into the primary cell: returns the lattice vector removed (p - wrapped) and
   // the cell of the wrapped point.
-  Vec3 wrap(Vec3 p, int cell[3]) const;
+  // (and, when `frac` is given, the place of p inside that cell, in cell widths).
+  Vec3 wrap(Vec3 p, int cell[3], double* frac = nullptr) const;
+  static int floor_div(int k, int n) { return (k >= 0 ? k : k - n + 1) / n; }
 
   ShearedLattice g_;
-  int n_[3]; // cells per direction
-  int w_[3]; // stencil half-widths
-  std::vector<Vec3> wrapped_;
-  std::vector<int> start_, index_;
+  double reach_;
+  int n_[3];                       // cells per direction
+  int half_rows_, half_layers_;    // rows (y) and layers (z) of cells within reach
+  std::vector<Vec3> wrapped_;      // wrapped points in cell order
+  std::vector<int> start_, index_; // cell c holds index_[start_[c] .. start_[c + 1])
 };
 
 } // namespace capsim

@@ -1,5 +1,6 @@
 #include "stokes/single_layer.hpp"
 
+#include "common/vector_clones.hpp"
 #include "stokes/element_integrals.hpp"
 #include "stokes/near_triangles.hpp"
 #include "stokes/triangle_sources.hpp"
@@ -9,15 +10,6 @@
 
 namespace capsim {
 namespace {
-
-// The O(N^2) loop is compiled for several instruction sets and the best one the CPU has
-// is picked at load time: a portable build still runs AVX2/AVX-512 code (2x faster here).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(CAPSIM_NO_CLONES)
-#define CAPSIM_VECTOR_CLONES                                                             \
-  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define CAPSIM_VECTOR_CLONES
-#endif
 
 // sum_g J(x - y_g) f_g over all far-rule points: the O(N^2) part, written so that the
 // compiler vectorises it (no branches, structure-of-arrays).

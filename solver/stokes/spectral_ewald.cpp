@@ -1,5 +1,6 @@
 #include "stokes/spectral_ewald.hpp"
 
+#include "common/fast_special.hpp"
 #include "stokes/ewald_kernel.hpp"
 #include "stokes/stokeslet.hpp"
 
@@ -11,6 +12,25 @@
 
 namespace capsim {
 
+namespace {
+
+// The smallest even n' >= n with no prime factor above 5: FFTW is several times slower on
+// sizes with larger factors (a 242^3 grid, 2 * 11^2, took over 20 times longer than 240^3).
+int fft_friendly_size(int n) {
+  for (;; ++n) {
+    if (n % 2)
+      continue;
+    int r = n;
+    for (int f : {2, 3, 5})
+      while (r % f == 0)
+        r /= f;
+    if (r == 1)
+      return n;
+  }
+}
+
+} // namespace
+
 SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& ewald,
                                               double tolerance) {
   SpectralParameters p;
@@ -18,8 +38,7 @@ SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& e
   // |k| < k_cut needs |m1|, |m3| <= k_cut L / 2 pi and |m2| <= 1.5 k_cut L / 2 pi
   // (shear).
   const int m_max = int(std::ceil(1.5 * ewald.k_cut * L / (2.0 * kPi)));
-  p.grid = std::max(2 * m_max + 2, p.support + 2);
-  p.grid += p.grid % 2;
+  p.grid = fft_friendly_size(std::max(2 * m_max + 2, p.support + 2));
   const double h = L / p.grid, w = p.support * h / 2.0;
   const double m = 0.976 * std::sqrt(kPi * p.support);
   p.eta = std::pow(2.0 * w * ewald.xi / m, 2);
@@ -29,50 +48,122 @@ SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& e
   return p;
 }
 
+double spectral_xi(double L, double tolerance, long nodes, long points) {
+  // Seconds per real-space pair (gather and kernel) and per FFT point and log2 factor
+  // (six transforms: three components each way), measured on one core of the project
+  // machine (AVX-512); only their ratio matters.
+  constexpr double kPairSeconds = 30e-9, kFftSeconds = 0.8e-9;
+  const double density = double(points) / (L * L * L);
+  double best_xi = 0, best_cost = 0;
+  // r_cut from L/2 down to 0.2 capsule radii in steps of 5 %.
+  for (double r_cut = L / 2.0; r_cut >= 0.2; r_cut *= 0.95) {
+    const double x_cut = choose_ewald_parameters(L, tolerance, 1.0).r_cut;
+    const EwaldParameters e = choose_ewald_parameters(L, tolerance, x_cut / r_cut);
+    const double m = choose_spectral_parameters(L, e, tolerance).grid;
+    const double pairs = double(nodes) * density * 4.0 / 3.0 * kPi * std::pow(r_cut, 3);
+    const double cost =
+        kPairSeconds * pairs + kFftSeconds * 6.0 * m * m * m * std::log2(m * m * m);
+    if (best_xi == 0 || cost < best_cost)
+      best_xi = e.xi, best_cost = cost;
+  }
+  return best_xi;
+}
+
 struct SpectralEwald::Impl {
   double L, xi;
   SpectralParameters p;
   size_t n_real, n_complex;
-  double* grid[3];
-  fftw_complex* spectrum[3];
+  // The three force components interleaved (grid[3 j + a]): a stencil row is one run of
+  // memory for all of them. Transformed together by one strided FFTW plan each way.
+  double* grid;
+  fftw_complex* spectrum;
   fftw_plan forward, backward;
 
-  double gauss_norm() const { return std::pow(2.0 * xi * xi / (kPi * p.eta), 1.5); }
-  double gauss_rate() const { return 2.0 * xi * xi / p.eta; }
-  size_t index(int j1, int j2, int j3) const {
-    const int m = p.grid;
-    auto w = [m](int j) { return ((j % m) + m) % m; };
-    return (size_t(w(j1)) * m + w(j2)) * m + w(j3);
-  }
-  template <class Visit> void stencil(const ShearedLattice& g, Vec3 y, Visit visit) const;
+  double gauss_norm = 0, gauss_rate = 0; // g(r) = norm exp(-rate r^2)
+  std::vector<double> ramp;              // exp(-rate a^2 h^2), a = 0 .. P-1
+  struct Column {
+    int index[64];
+    double weight[64];
+  };
+  template <class Row> void stencil(const ShearedLattice& g, Vec3 y, Row row) const;
   void scale_spectrum(const ShearedLattice& g);
+  void spread(const ShearedLattice& g, const FarSources& src) const;
 };
 
-// Visits the P^3 grid points around y with their Gaussian weight g(z_j - y). The j1 range
-// is re-centred for every j2, so the stencil follows the sheared cell exactly.
-template <class Visit>
-void SpectralEwald::Impl::stencil(const ShearedLattice& g, Vec3 y, Visit visit) const {
+// Spreads the sources to the grid in parallel without races: the sources are binned into
+// slabs along the third grid direction, each at least P grid planes thick, so that a
+// source's stencil touches only its own slab and the next; even slabs are spread
+// concurrently, then odd ones. Each grid value receives its terms in the same order
+// whatever the number of threads.
+void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src) const {
   const int m = p.grid, half = p.support / 2;
-  const double h = L / m, rate = gauss_rate();
+  int slabs = m / p.support;
+  slabs -= slabs % 2; // an even count: the last slab's neighbour, slab 0, is even
+  if (slabs < 2)
+    slabs = 1;
+  std::vector<std::vector<int>> members(slabs);
+  for (size_t k = 0; k < src.size(); ++k) {
+    const int c3 = int(std::floor(src.y[2][k] / L * m)) - half + 1;
+    const int first = ((c3 % m) + m) % m;
+    members[std::min(slabs - 1, first * slabs / m)].push_back(int(k));
+  }
+  auto spread_slab = [&](int slab) {
+    for (int k : members[slab]) {
+      const Vec3 y{src.y[0][k], src.y[1][k], src.y[2][k]};
+      const double f[3] = {src.f[0][k], src.f[1][k], src.f[2][k]};
+      stencil(g, y, [&](size_t base, double w, const Column& c) {
+        double* row = grid + 3 * base;
+        const double w0 = w * f[0], w1 = w * f[1], w2 = w * f[2];
+        for (int b = 0; b < p.support; ++b) {
+          double* point = row + 3 * c.index[b];
+          point[0] += w0 * c.weight[b];
+          point[1] += w1 * c.weight[b];
+          point[2] += w2 * c.weight[b];
+        }
+      });
+    }
+  };
+  if (slabs == 1) {
+    spread_slab(0);
+    return;
+  }
+  for (int parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int slab = parity; slab < slabs; slab += 2)
+      spread_slab(slab);
+  }
+}
+
+// Visits the P^3 grid points around y as P^2 rows along the third grid direction:
+// row(base, w, column) for grid points base + column.index[b] with Gaussian weights
+// g(z_j - y) = w column.weight[b]. The j1 range is re-centred for every j2, so the
+// stencil follows the sheared cell exactly. Along j1 the weights come from the
+// recurrence exp(-rate (d + a h)^2) = exp(-rate d^2) exp(-2 rate d h)^a exp(-rate a^2
+// h^2) (Greengard & Lee's fast Gaussian gridding): two exponentials per row, not P.
+template <class Row>
+void SpectralEwald::Impl::stencil(const ShearedLattice& g, Vec3 y, Row row) const {
+  const int m = p.grid, half = p.support / 2;
+  const double h = L / m, rate = gauss_rate;
   const double u2 = y.y / L * m, u3 = y.z / L * m, u1 = (y.x - g.s * y.y) / L * m;
   const int c2 = int(std::floor(u2)) - half + 1, c3 = int(std::floor(u3)) - half + 1;
-  double gz[64];
+  auto wrap = [m](int j) { return ((j % m) + m) % m; };
+  Column column;
   for (int b = 0; b < p.support; ++b) {
-    double dz = (c3 + b - u3) * h;
-    gz[b] = std::exp(-rate * dz * dz);
+    const double dz = (c3 + b - u3) * h;
+    column.index[b] = wrap(c3 + b);
+    column.weight[b] = exp_nonpositive(-rate * dz * dz);
   }
   for (int a2 = 0; a2 < p.support; ++a2) {
     const int j2 = c2 + a2;
-    const double dy = (j2 - u2) * h, gy = std::exp(-rate * dy * dy);
+    const double dy = (j2 - u2) * h, gy = gauss_norm * exp_nonpositive(-rate * dy * dy);
     const double centre1 = u1 - g.s * (j2 - u2); // x-offset zero at this j1
     const int c1 = int(std::floor(centre1)) - half + 1;
-    for (int a1 = 0; a1 < p.support; ++a1) {
-      const int j1 = c1 + a1;
-      const double dx = ((j1 - u1) + g.s * (j2 - u2)) * h;
-      const double gxy = gauss_norm() * gy * std::exp(-rate * dx * dx);
-      for (int b = 0; b < p.support; ++b)
-        visit(index(j1, j2, c3 + b), gxy * gz[b]);
-    }
+    const double d0 = ((c1 - u1) + g.s * (j2 - u2)) * h;
+    const double step = std::exp(-2.0 * rate * d0 * h);
+    double gx = gy * exp_nonpositive(-rate * d0 * d0);
+    const size_t j2w = size_t(wrap(j2));
+    for (int a1 = 0; a1 < p.support; ++a1, gx *= step)
+      row((size_t(wrap(c1 + a1)) * m + j2w) * m, gx * ramp[a1], column);
   }
 }
 
@@ -93,19 +184,19 @@ void SpectralEwald::Impl::scale_spectrum(const ShearedLattice& g) {
         Vec3 k = reciprocal_point(g, m1, m2, i3);
         double k2 = dot(k, k);
         if (nyquist || k2 == 0) {
-          for (auto* s : spectrum)
-            s[k_index][0] = s[k_index][1] = 0;
+          for (int a = 0; a < 3; ++a)
+            spectrum[3 * k_index + a][0] = spectrum[3 * k_index + a][1] = 0;
           continue;
         }
         double q = k2 / (4.0 * xi * xi);
         double w = c * (1.0 + q + 2.0 * q * q) * std::exp(-(1.0 - p.eta) * q) / k2;
         for (int part = 0; part < 2; ++part) {
-          Vec3 f{spectrum[0][k_index][part], spectrum[1][k_index][part],
-                 spectrum[2][k_index][part]};
+          fftw_complex* sk = spectrum + 3 * k_index;
+          Vec3 f{sk[0][part], sk[1][part], sk[2][part]};
           Vec3 r = w * (f - (dot(k, f) / k2) * k);
-          spectrum[0][k_index][part] = r.x;
-          spectrum[1][k_index][part] = r.y;
-          spectrum[2][k_index][part] = r.z;
+          sk[0][part] = r.x;
+          sk[1][part] = r.y;
+          sk[2][part] = r.z;
         }
       }
 }
@@ -117,26 +208,32 @@ SpectralEwald::SpectralEwald(double L, const EwaldParameters& ewald,
   s.L = L;
   s.xi = ewald.xi;
   s.p = p;
+  s.gauss_norm = std::pow(2.0 * s.xi * s.xi / (kPi * p.eta), 1.5);
+  s.gauss_rate = 2.0 * s.xi * s.xi / p.eta;
+  const double h = L / p.grid;
+  for (int a = 0; a < p.support; ++a)
+    s.ramp.push_back(std::exp(-s.gauss_rate * a * a * h * h));
   const int m = p.grid;
   s.n_real = size_t(m) * m * m;
   s.n_complex = size_t(m) * m * (m / 2 + 1);
-  for (int a = 0; a < 3; ++a) {
-    s.grid[a] = fftw_alloc_real(s.n_real);
-    s.spectrum[a] = fftw_alloc_complex(s.n_complex);
-  }
-  // Planned once (FFTW_ESTIMATE leaves the arrays untouched); executed on all three
-  // components through the new-array interface.
-  s.forward = fftw_plan_dft_r2c_3d(m, m, m, s.grid[0], s.spectrum[0], FFTW_ESTIMATE);
-  s.backward = fftw_plan_dft_c2r_3d(m, m, m, s.spectrum[0], s.grid[0], FFTW_ESTIMATE);
+  s.grid = fftw_alloc_real(3 * s.n_real);
+  s.spectrum = fftw_alloc_complex(3 * s.n_complex);
+  // Planned once (FFTW_ESTIMATE leaves the arrays untouched) for the threads of the run.
+  static const bool threads_ready = fftw_init_threads() != 0;
+  if (threads_ready)
+    fftw_plan_with_nthreads(omp_get_max_threads());
+  const int dims[3] = {m, m, m};
+  s.forward = fftw_plan_many_dft_r2c(3, dims, 3, s.grid, nullptr, 3, 1, s.spectrum,
+                                     nullptr, 3, 1, FFTW_ESTIMATE);
+  s.backward = fftw_plan_many_dft_c2r(3, dims, 3, s.spectrum, nullptr, 3, 1, s.grid,
+                                      nullptr, 3, 1, FFTW_ESTIMATE);
 }
 
 SpectralEwald::~SpectralEwald() {
   fftw_destroy_plan(impl_->forward);
   fftw_destroy_plan(impl_->backward);
-  for (int a = 0; a < 3; ++a) {
-    fftw_free(impl_->grid[a]);
-    fftw_free(impl_->spectrum[a]);
-  }
+  fftw_free(impl_->grid);
+  fftw_free(impl_->spectrum);
 }
 
 void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& src,
@@ -144,29 +241,26 @@ void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& sr
                                    SpectralTimings* timings) {
   Impl& s = *impl_;
   const double t0 = omp_get_wtime();
-  for (auto* grid : s.grid)
-    std::fill(grid, grid + s.n_real, 0.0);
-  for (size_t k = 0; k < src.size(); ++k) { // serial: stencils of sources overlap
-    const Vec3 y{src.y[0][k], src.y[1][k], src.y[2][k]};
-    const double f[3] = {src.f[0][k], src.f[1][k], src.f[2][k]};
-    s.stencil(g, y, [&](size_t j, double w) {
-      for (int a = 0; a < 3; ++a)
-        s.grid[a][j] += w * f[a];
-    });
-  }
+  std::fill(s.grid, s.grid + 3 * s.n_real, 0.0);
+  s.spread(g, src);
   const double t1 = omp_get_wtime();
-  for (int a = 0; a < 3; ++a)
-    fftw_execute_dft_r2c(s.forward, s.grid[a], s.spectrum[a]);
+  fftw_execute(s.forward);
   s.scale_spectrum(g);
-  for (int a = 0; a < 3; ++a)
-    fftw_execute_dft_c2r(s.backward, s.spectrum[a], s.grid[a]);
+  fftw_execute(s.backward);
   const double t2 = omp_get_wtime();
   const double cell = g.L * g.L * g.L / double(s.n_real); // V / M^3
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < targets.size(); ++i) {
     Vec3 sum;
-    s.stencil(g, targets[i], [&](size_t j, double w) {
-      sum += w * Vec3{s.grid[0][j], s.grid[1][j], s.grid[2][j]};
+    s.stencil(g, targets[i], [&](size_t base, double w, const Impl::Column& c) {
+      double sx = 0, sy = 0, sz = 0;
+      for (int b = 0; b < s.p.support; ++b) {
+        const size_t j = base + c.index[b];
+        sx += c.weight[b] * s.grid[3 * j];
+        sy += c.weight[b] * s.grid[3 * j + 1];
+        sz += c.weight[b] * s.grid[3 * j + 2];
+      }
+      sum += w * Vec3{sx, sy, sz};
     });
     u[i] += cell * sum;
   }

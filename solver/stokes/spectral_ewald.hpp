@@ -32,6 +32,11 @@ struct SpectralParameters {
 SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& ewald,
                                               double tolerance);
 
+// xi for Spectral Ewald: the real-space sums cost ~ nodes x (points within r_cut), the
+// grid ~ M^3 log M with M ~ xi L (spreading and gathering do not depend on xi), so xi is
+// raised until the two balance; see docs/method.md for the measured trade-off.
+double spectral_xi(double L, double tolerance, long nodes, long points);
+
 struct SpectralTimings {
   double spread = 0, fft = 0, gather = 0;
 };
