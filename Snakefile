@@ -1,16 +1,44 @@
 # The reproduction workflow: `snakemake --cores 2` (or `bash scripts/reproduce.sh`).
-# Thin on purpose: the configuration is read here, each study lives in workflow/rules/.
+# Thin on purpose: the configuration is read and validated here, each study lives in
+# workflow/rules/<study>.smk. Other configurations: --configfile config/ci.yaml (tiny, a few
+# minutes) or config/paper.yaml (the paper's values). `snakemake check` compares the figure
+# data with config/expected/*.yaml.
+import os
 import sys
 
-configfile: "config/config.yaml"
+from snakemake.utils import min_version, validate
 
-CAPSIM = "build/capsim"
+min_version("8.0")
+
+ROOT = workflow.basedir  # the repository; results go to the working directory
 
 
+configfile: os.path.join(ROOT, "config", "config.yaml")
+
+
+validate(config, os.path.join(ROOT, "workflow", "schemas", "config.schema.yaml"))
+
+CAPSIM = config["capsim"] if os.path.isabs(config["capsim"]) else os.path.join(ROOT, config["capsim"])
+PYTHON = sys.executable
+# The analysis package and figure scripts run from any working directory.
+PYTHON_ANALYSIS = f"PYTHONPATH={ROOT} {PYTHON}"
+
+
+include: "workflow/rules/common.smk"
 include: "workflow/rules/build.smk"
 include: "workflow/rules/dilute.smk"
+include: "workflow/rules/grid.smk"
+include: "workflow/rules/mesh.smk"
+include: "workflow/rules/initial.smk"
+include: "workflow/rules/boxsize.smk"
+include: "workflow/rules/multipole.smk"
+include: "workflow/rules/snapshots.smk"
+include: "workflow/rules/figures.smk"
+include: "workflow/rules/checks.smk"
 
 
 rule all:
+    default_target: True
     input:
         "results/dilute/table.md",
+        FIGURE_OUTPUTS,

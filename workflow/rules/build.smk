@@ -5,4 +5,4 @@ rule build_capsim:
     log:
         "results/logs/build.log",
     shell:
-        "bash scripts/setup.sh > {log} 2>&1"
+        "bash {ROOT}/scripts/setup.sh > {log} 2>&1"

@@ -1,14 +1,14 @@
 # The dilute limit (phi = 0): one capsule in unbounded shear for every Ca and mesh level
-# listed in config["dilute"]. Adding a value to a list runs only the new runs.
+# listed in config["dilute"]. Adding a value to a list runs only the new runs. Other studies
+# (grid: phi = 0 of figures 3-10; multipole: figure 1) ask for dilute runs at their own Ca
+# and mesh level through dilute_summary(); they land in the same folders.
 DILUTE = config["dilute"]
 
 
-def dilute_dir(wildcards):
-    return f"results/dilute/ca{wildcards.ca}_level{wildcards.level}"
+def dilute_summary(ca, level):
+    return f"results/dilute/ca{ca}_level{level}/summary.json"
 
 
-# The solver is an input only to be built first: ancient() keeps a rebuilt binary from
-# re-running finished runs (a physics change means a new results folder, not a rerun).
 rule dilute_run:
     input:
         ancient(CAPSIM),
@@ -17,17 +17,20 @@ rule dilute_run:
     log:
         "results/logs/dilute/ca{ca}_level{level}.log",
     params:
-        dir=dilute_dir,
+        dir="results/dilute/ca{ca}_level{level}",
         t_end=DILUTE["t_end"],
         t_avg_start=DILUTE["t_avg_start"],
-    threads: 2
+    threads: config["resources"]["threads"]
+    resources:
+        runtime=config["resources"]["dilute_minutes"],
+        mem_mb=config["resources"]["dilute_mem_mb"],
     # A run that was stopped (killed job, cluster time limit) resumes from its checkpoint.
     shell:
         """
         if [ -f {params.dir}/checkpoint.h5 ]; then
-          {input} run --resume {params.dir} --set threads={threads} 2> {log}
+          {input} run -q --resume {params.dir} --set threads={threads} 2> {log}
         else
-          {input} run --set ca={wildcards.ca} --set mesh_level={wildcards.level} \
+          {input} run -q --set ca={wildcards.ca} --set mesh_level={wildcards.level} \
             --set t_end={params.t_end} --set t_avg_start={params.t_avg_start} \
             --set threads={threads} -o {params.dir} 2> {log}
         fi
@@ -36,18 +39,12 @@ rule dilute_run:
 
 rule dilute_table:
     input:
-        expand(
-            "results/dilute/ca{ca}_level{level}/summary.json",
-            ca=DILUTE["ca"],
-            level=DILUTE["mesh_levels"],
-        ),
+        expand(dilute_summary("{ca}", "{level}"), ca=DILUTE["ca"], level=DILUTE["mesh_levels"]),
     output:
         table="results/dilute/table.md",
         csv="results/dilute/table.csv",
     log:
         "results/logs/dilute/table.log",
-    params:
-        python=sys.executable,
     shell:
-        "{params.python} figures/dilute_table.py --out-md {output.table} --out-csv {output.csv} "
-        "{input} > {log} 2>&1"
+        "{PYTHON_ANALYSIS} {ROOT}/figures/dilute_table.py --out-md {output.table} "
+        "--out-csv {output.csv} {input} > {log} 2>&1"

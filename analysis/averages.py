@@ -1,0 +1,64 @@
+"""Time and ensemble averages of one run and of several seeds (paper eqs. 4.1 and A3).
+
+Samples are equally spaced in time, so the time integral of eq. A3 is the sample mean.
+Defaults follow the paper: averages from gammadot*t_s = 10 to the end of the run.
+"""
+
+import numpy as np
+
+from analysis.read_run import time_average
+
+T_START = 10.0  # paper section 4.1: the average starts after gammadot*t = 10
+
+
+def window_end(time, t_end=None):
+    """The end of the averaging window: t_end, or the last sample time when None."""
+    return float(np.max(time)) if t_end is None else float(t_end)
+
+
+def run_averages(ts, t_start=T_START, t_end=None):
+    """Averages of one run's time series `ts` (as read_timeseries returns it).
+
+    Means and standard deviations are over all (sample, capsule) pairs with
+    t_start <= t <= t_end (eq. 4.1). Returns a dict: D, D_std, theta_D_deg,
+    theta_D_std_deg, principal_diff (<S1 - S2>), theta_S_deg, stresslet (3x3 mean, Gs a^2),
+    count (sample values), t_start, t_end, capsules.
+    """
+    time = ts["time"]
+    t_end = window_end(time, t_end)
+    out = {"t_start": float(t_start), "t_end": t_end, "capsules": int(ts["D"].shape[1])}
+    mean, std, count = time_average(ts["D"], time, t_start, t_end)
+    out["D"], out["D_std"] = mean, std
+    mean, std, _ = time_average(ts["theta_D_deg"], time, t_start, t_end)
+    out["theta_D_deg"], out["theta_D_std_deg"] = mean, std
+    out["principal_diff"] = time_average(ts["principal_diff"], time, t_start, t_end)[0]
+    out["theta_S_deg"] = time_average(ts["theta_S_deg"], time, t_start, t_end)[0]
+    out["stresslet"] = time_average(ts["stresslet"], time, t_start, t_end)[0]
+    out["count"] = count
+    return out
+
+
+def running_average(series, time, t_start, t_ends):
+    """<f>(t_e) of eq. A3 for every end time in `t_ends` (figure 11).
+
+    `series` is (n,) or (n, M) (averaged over capsules too). Returns an array of
+    len(t_ends); NaN where no sample lies in [t_start, t_e].
+    """
+    out = np.full(len(t_ends), np.nan)
+    for i, t_e in enumerate(t_ends):
+        if np.any((time >= t_start) & (time <= t_e)):
+            out[i] = time_average(series, time, t_start, t_e)[0]
+    return out
+
+
+def ensemble(values, ddof=0):
+    """Mean and standard deviation over cases (seeds, initial positions): axis 0.
+
+    ddof = 0 gives the population standard deviation of the cases, as the paper's
+    "standard deviation of three cases" (appendix A.2, A.3); ddof = 1 the sample one.
+    With a single case the standard deviation is 0.
+    """
+    values = np.asarray(values, dtype=float)
+    mean = values.mean(axis=0)
+    std = values.std(axis=0, ddof=ddof) if values.shape[0] > ddof else np.zeros_like(mean)
+    return mean, std

@@ -1,0 +1,122 @@
+"""Compare figure data (CSV) with expected values and tolerances (config/expected/*.yaml).
+
+An expectations file is YAML:
+
+    expectations:
+      - id: table1-mu-sp                 # unique name, shown in the report
+        file: figures/table1.csv         # CSV, relative to the results folder
+        where: {N_E: 5120}               # selects exactly one row (all fields must match)
+        column: mu_sp                    # the value to check
+        value: 0.81762                   # expected value, with rel_tol and/or abs_tol,
+        rel_tol: 0.05                    #   or min/max bounds instead of value
+        source: paper                    # analytic | paper | reference-run
+        provenance: "Table 1, N_E = 5120 average (Ca 0.2, phi 0.3, M 100)"
+
+Every expectation must state where its value comes from (`source` and `provenance`);
+a value copied from the same run it checks is not an expectation. Usage:
+    python -m analysis.check --results results --report R.md config/expected/a.yaml ...
+Exit status 1 if any expectation fails, with one readable line per failure.
+"""
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+import yaml
+
+from analysis.tables import read_table, select
+
+SOURCES = ("analytic", "paper", "reference-run")
+
+
+class ExpectationError(ValueError):
+    """An expectation file that is malformed (not a failed comparison)."""
+
+
+def load_expectations(path):
+    """The list of expectations in one YAML file, validated."""
+    with open(path, encoding="utf-8") as f:
+        data = yaml.safe_load(f) or {}
+    items = data.get("expectations")
+    if not isinstance(items, list) or not items:
+        raise ExpectationError(f"{path}: needs a non-empty list 'expectations'")
+    for i, e in enumerate(items):
+        where = f"{path}: expectation {i} ({e.get('id', 'no id')})"
+        for key in ("id", "file", "column", "source", "provenance"):
+            if not e.get(key):
+                raise ExpectationError(f"{where}: missing '{key}'")
+        if e["source"] not in SOURCES:
+            raise ExpectationError(f"{where}: source must be one of {SOURCES}, "
+                                   f"got '{e['source']}'")
+        has_value = e.get("value") is not None and ("rel_tol" in e or "abs_tol" in e)
+        has_bounds = "min" in e or "max" in e
+        if not (has_value or has_bounds):
+            raise ExpectationError(f"{where}: give 'value' with 'rel_tol'/'abs_tol', "
+                                   "or 'min'/'max'")
+        e.setdefault("where", {})
+        e["_file"] = str(path)
+    return items
+
+
+def check_one(e, results):
+    """(ok, message) for one expectation against the CSVs under `results`."""
+    path = Path(results) / e["file"]
+    label = f"{e['id']} [{e['source']}: {e['provenance']}]"
+    if not path.exists():
+        return False, f"FAIL {label}: {path} does not exist"
+    rows = select(read_table(path), **e["where"])
+    if len(rows) != 1:
+        return False, (f"FAIL {label}: {len(rows)} rows of {path} match {e['where']} "
+                       "(need exactly one)")
+    got = rows[0].get(e["column"])
+    if not isinstance(got, float) or math.isnan(got):
+        return False, f"FAIL {label}: column '{e['column']}' is '{got}', not a number"
+    if e.get("value") is not None:
+        want = float(e["value"])
+        tol = max(float(e.get("abs_tol", 0.0)), float(e.get("rel_tol", 0.0)) * abs(want))
+        ok = abs(got - want) <= tol
+        detail = (f"{e['column']} = {got:.6g}, expected {want:.6g} +- {tol:.3g} "
+                  f"(off by {got - want:+.3g})")
+    else:
+        lo, hi = float(e.get("min", -math.inf)), float(e.get("max", math.inf))
+        ok = lo <= got <= hi
+        detail = f"{e['column']} = {got:.6g}, expected in [{lo:.6g}, {hi:.6g}]"
+    where = ", ".join(f"{k}={v}" for k, v in e["where"].items())
+    return ok, f"{'ok  ' if ok else 'FAIL'} {label}: {e['file']} ({where}): {detail}"
+
+
+def run_checks(expectation_files, results):
+    """All expectations of all files: (number failed, report lines)."""
+    lines, failed = [], 0
+    for path in expectation_files:
+        for e in load_expectations(path):
+            ok, message = check_one(e, results)
+            failed += not ok
+            lines.append(message)
+    return failed, lines
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description="Check figure data against expectations.")
+    ap.add_argument("--results", default="results", help="folder the CSV paths start in")
+    ap.add_argument("--report", help="also write the report to this file")
+    ap.add_argument("expected", nargs="+", help="expectation YAML files")
+    args = ap.parse_args(argv)
+    try:
+        failed, lines = run_checks(args.expected, args.results)
+    except ExpectationError as err:
+        print(f"check: error: {err}", file=sys.stderr)
+        return 2
+    total = len(lines)
+    summary = f"check: {total - failed} of {total} expectations met, {failed} failed"
+    text = "\n".join(lines + [summary]) + "\n"
+    if args.report:
+        Path(args.report).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.report).write_text(text, encoding="utf-8")
+    print(text, end="", file=sys.stderr if failed else sys.stdout)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

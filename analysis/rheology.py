@@ -1,0 +1,35 @@
+"""Particle stress and rheology from the mean stresslet (paper eqs. 4.3-4.5, 4.9, 4.10).
+
+The stresslet is in units of Gs a^2 (../shared/DESIGN.md, section 1). With n_c = phi /
+(4/3 pi a^3) and Gs = mu gammadot a / Ca, the particle stress over mu gammadot is
+Sigma^p = 3 phi / (4 pi Ca) <S> / (Gs a^2).
+"""
+
+import math
+
+import numpy as np
+
+
+def particle_stress(mean_stresslet, phi, ca):
+    """Sigma^(p) / (mu gammadot) (eq. 4.3) from <S> in Gs a^2.
+
+    For phi = 0 (the dilute limit) phi is left out: the intrinsic stress per unit phi.
+    """
+    factor = 3.0 / (4.0 * math.pi * ca) * (phi if phi > 0 else 1.0)
+    return factor * np.asarray(mean_stresslet, dtype=float)
+
+
+def rheology(mean_stresslet, phi, ca):
+    """mu_sp (eq. 4.5), N1 (eq. 4.9), N2 (eq. 4.10), all over mu gammadot.
+
+    Axes: x flow, y gradient, z vorticity, so 1-2-3 of the paper's section 4 is x-y-z.
+    For phi = 0 these are the intrinsic [mu], [N1], [N2] (per unit phi).
+    """
+    s = particle_stress(mean_stresslet, phi, ca)
+    return {"mu_sp": float(s[0, 1]), "N1": float(s[0, 0] - s[1, 1]),
+            "N2": float(s[1, 1] - s[2, 2])}
+
+
+def box_side(capsules, phi):
+    """Side L of the cubic box holding M capsules of radius 1 at volume fraction phi."""
+    return (capsules * 4.0 * math.pi / (3.0 * phi)) ** (1.0 / 3.0)

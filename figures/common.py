@@ -1,0 +1,123 @@
+"""Shared plumbing of the figure scripts: style, arguments, the grid table split into
+dilute and suspension rows, the section 4.2 coefficients per Ca, and saving a figure with
+its data (PNG, PDF, CSV) and a footer that states the reductions of the runs it shows."""
+
+import argparse
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+import matplotlib  # noqa: E402
+
+matplotlib.rc_file(str(ROOT / "figures" / "matplotlibrc"))
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402,F401
+import numpy as np  # noqa: E402
+
+from analysis import fits  # noqa: E402
+from analysis.tables import read_table, write_table  # noqa: E402
+
+
+def parse_args(description):
+    """Arguments every figure script accepts (the workflow passes them all)."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--out", required=True, help="output stem: writes STEM.png/.pdf/.csv")
+    ap.add_argument("--t-start", type=float, default=10.0,
+                    help="start t_s of the time averages (paper: 10)")
+    ap.add_argument("--fit-phi-max", type=float, default=fits.FIT_PHI_MAX,
+                    help="fitting range of a2, b2 (paper: 0.10)")
+    ap.add_argument("--phi-m", type=float, default=fits.PHI_RANDOM_CLOSE,
+                    help="maximum packing of the Krieger-Dougherty curve (paper: 0.63)")
+    ap.add_argument("--images", default="xy", choices=["none", "xy", "all"],
+                    help="periodic images drawn in figure 2")
+    ap.add_argument("inputs", nargs="+", help="tables or run summaries")
+    return ap.parse_args()
+
+
+def elements(level):
+    """N_E of an icosphere level: 20 * 4^level."""
+    return 20 * 4 ** int(level)
+
+
+def _span(values, fmt="{:g}"):
+    values = sorted(set(values))
+    return fmt.format(values[0]) if len(values) == 1 else ", ".join(fmt.format(v) for v in values)
+
+
+def footer(rows, t_start=None):
+    """One line: mesh, capsules per box, end time and averaging window of these rows."""
+    susp = [r for r in rows if not r.get("intrinsic")]
+    use = susp or rows
+    parts = [f"N_E = {_span([elements(r['mesh_level']) for r in use], '{:d}')}"]
+    if susp:
+        parts.append(f"M = {_span([int(r['capsules']) for r in susp], '{:d}')}")
+    parts.append(f"gammadot t_e = {_span([round(r['t_end'], 2) for r in use])}")
+    ts = t_start if t_start is not None else _span([r["t_start"] for r in use])
+    parts.append(f"t_s = {ts}")
+    if len(susp) != len(rows):
+        dil = [r for r in rows if r.get("intrinsic")]
+        parts.append(f"dilute limit: N_E = {_span([elements(r['mesh_level']) for r in dil], '{:d}')}, "
+                     f"average over [{_span([r['t_start'] for r in dil])}, "
+                     f"{_span([round(r['t_end'], 2) for r in dil])}]")
+    return "Runs: " + "; ".join(parts)
+
+
+def save(fig, out, rows, caption):
+    """Write OUT.png, OUT.pdf with `caption` under the axes, and the plotted data OUT.csv."""
+    fig.text(0.01, -0.02, caption, ha="left", va="top", fontsize=7, wrap=True)
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out.with_suffix(".png"))
+    fig.savefig(out.with_suffix(".pdf"))
+    columns = []
+    for r in rows:
+        columns += [k for k in r if k not in columns]
+    write_table(out.with_suffix(".csv"), rows, columns)
+
+
+def grid_rows(path):
+    """The grid table split: (dilute rows by Ca, suspension rows by Ca sorted by phi)."""
+    rows = read_table(path)
+    dilute = {r["ca"]: r for r in rows if r["intrinsic"]}
+    susp = {}
+    for r in rows:
+        if not r["intrinsic"]:
+            susp.setdefault(r["ca"], []).append(r)
+    for ca in susp:
+        susp[ca].sort(key=lambda r: r["phi"])
+    return rows, dilute, susp
+
+
+def coefficients(dilute, susp, key, phi_max):
+    """(c1, c2) per Ca for mu_sp (key "mu_sp": a1, a2) or N1 ("N1": b1, b2), section 4.2:
+    c1 the dilute-limit intrinsic value, c2 the least-squares fit of (y - c1 phi) = c2 phi^2
+    over 0 <= phi <= phi_max. c2 is NaN when no phi lies in the range."""
+    out = {}
+    for ca, rows in susp.items():
+        if ca not in dilute:
+            continue
+        c1 = dilute[ca][key]
+        phi = [r["phi"] for r in rows]
+        try:
+            c2 = fits.second_coefficient(phi, [r[key] for r in rows], c1, phi_max)
+        except ValueError:
+            c2 = float("nan")
+        out[ca] = (c1, c2)
+    return out
+
+
+def colors(keys):
+    """One colour per key (Ca or phi), dark to light as in the paper's series."""
+    keys = sorted(keys)
+    cmap = plt.get_cmap("viridis")
+    return {k: cmap(0.85 * i / max(1, len(keys) - 1)) for i, k in enumerate(keys)}
+
+
+def phi_with_dilute(dilute_row, rows, key, dilute_value=None):
+    """phi and values of one Ca with the dilute limit at phi = 0 first."""
+    phi = [0.0] + [r["phi"] for r in rows]
+    first = dilute_row[key] if dilute_value is None else dilute_value
+    return np.array(phi), np.array([first] + [r[key] for r in rows])

@@ -1,0 +1,56 @@
+"""Figure 1: error of the multipole expansion (eq. 3.11, mean over the flow, vorticity and
+gradient directions) against the distance r/a from the capsule centre, for each number of
+patches P; one panel per Ca (paper: (a) Ca = 0.1, (b) 0.5). A 1/r guide shows the slope.
+
+Usage: python figures/fig01.py --out results/figures/fig01 results/multipole/ca0.1_level4.csv ...
+(the file names give Ca and the mesh level: ca<Ca>_level<level>.csv)
+"""
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+import common
+from analysis.tables import read_table
+
+
+def main(args):
+    tables = []
+    for path in args.inputs:
+        m = re.match(r"ca([0-9.eE+-]+)_level(\d+)\.csv$", Path(path).name)
+        if not m:
+            raise SystemExit(f"fig01: cannot read Ca and level from the name {path}")
+        tables.append((float(m.group(1)), int(m.group(2)), read_table(path)))
+    tables.sort()
+    fig, axes = common.plt.subplots(1, len(tables), figsize=(3.5 * len(tables), 3.0),
+                                    squeeze=False)
+    data = []
+    for ax, (ca, level, rows), letter in zip(axes[0], tables, "abcdefgh"):
+        patches = sorted({int(r["patches"]) for r in rows})
+        col = common.colors(patches)
+        for p in patches:
+            sel = sorted((r for r in rows if int(r["patches"]) == p), key=lambda r: r["r_over_a"])
+            r = np.array([s["r_over_a"] for s in sel])
+            err = np.array([s["error_mean"] for s in sel])
+            ax.loglog(r, err, "o-", color=col[p], label=f"P = {p}")
+            data += [{"panel": letter, "ca": ca, "mesh_level": level, "patches": p,
+                      "r_over_a": s["r_over_a"], "error_mean": s["error_mean"],
+                      "error_flow": s["error_flow"], "error_vorticity": s["error_vorticity"],
+                      "error_gradient": s["error_gradient"]} for s in sel]
+        ax.axhline(1e-2, color="0.6", lw=0.8, ls=":")
+        r0 = np.array([min(s["r_over_a"] for s in rows), max(s["r_over_a"] for s in rows)])
+        ax.loglog(r0, 0.5 * r0[0] / r0 * max(s["error_mean"] for s in rows), "k--", lw=0.8,
+                  label=r"$\propto (r/a)^{-1}$")
+        ax.set(xlabel="r/a", ylabel=r"$\varepsilon$", title=f"({letter}) Ca = {ca:g}")
+        ax.legend()
+    fig.tight_layout()
+    levels = sorted({t[1] for t in tables})
+    caption = ("Figure 1. Relative error of the P-patch multipole expansion against fine "
+               "quadrature (eq. 3.11), mean of the three directions; dotted: 1e-2. Capsule: "
+               f"the dilute run's last checkpoint, N_E = {', '.join(str(common.elements(l)) for l in levels)}.")
+    common.save(fig, args.out, data, caption)
+
+
+if __name__ == "__main__":
+    main(common.parse_args(__doc__.splitlines()[0]))

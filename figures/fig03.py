@@ -1,0 +1,42 @@
+"""Figure 3: (a) ensemble average of the Taylor parameter <D> and its slope d<D>/dphi,
+(b) its standard deviation sigma_D, against phi (phi = 0: the dilute limit) for each Ca.
+
+Usage: python figures/fig03.py --out results/figures/fig03 results/grid/table.csv
+"""
+
+import numpy as np
+
+import common
+from analysis import fits
+
+
+def panels(args, key, std_key, label, std_label, number):
+    rows, dilute, susp = common.grid_rows(args.inputs[0])
+    col = common.colors(susp)
+    fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
+    data = []
+    for ca, runs in sorted(susp.items()):
+        if ca not in dilute:
+            continue
+        phi, mean = common.phi_with_dilute(dilute[ca], runs, key)
+        _, std = common.phi_with_dilute(dilute[ca], runs, std_key)
+        intercept, slope = fits.linear_fit(phi, mean)
+        ax_a.plot(phi, mean, "o", color=col[ca], label=f"Ca = {ca:g} (slope {slope:.3g})")
+        ax_a.plot(phi, intercept + slope * phi, "--", color=col[ca], lw=0.8)
+        ax_b.plot(phi, std, "o-", color=col[ca], label=f"Ca = {ca:g}")
+        for p, m, s in zip(phi, mean, std):
+            data.append({"panel": "a,b", "ca": ca, "phi": p, key: m, std_key: s,
+                         "slope": slope, "intercept": intercept})
+    ax_a.set(xlabel=r"$\phi$", ylabel=label, title="(a)")
+    ax_b.set(xlabel=r"$\phi$", ylabel=std_label, title="(b)")
+    ax_a.legend()
+    ax_b.legend()
+    caption = (f"Figure {number}. {label} with least-squares lines (slope in the legend) and "
+               f"{std_label} against phi; phi = 0 is the dilute limit. "
+               + common.footer(rows, args.t_start))
+    common.save(fig, args.out, data, caption)
+
+
+if __name__ == "__main__":
+    panels(common.parse_args(__doc__.splitlines()[0]), "D", "D_std",
+           r"$\langle D\rangle$", r"$\sigma_D$", 3)

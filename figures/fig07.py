@@ -1,0 +1,55 @@
+"""Figure 7: normal stress differences: (a) N1 and (b) N2 (over mu gammadot) against Ca for
+each phi; (c) N1 against phi for each Ca with b1 phi + b2 phi^2; (d) the coefficients b1
+(dilute limit) and b2 (least squares over 0 <= phi <= 0.10) of eq. 4.11 against Ca.
+
+Usage: python figures/fig07.py --out results/figures/fig07 results/grid/table.csv
+"""
+
+import numpy as np
+
+import common
+
+
+def main(args):
+    rows, dilute, susp = common.grid_rows(args.inputs[0])
+    coef = common.coefficients(dilute, susp, "N1", args.fit_phi_max)
+    fig, axes = common.plt.subplots(2, 2, figsize=(7.0, 5.6))
+    (ax_a, ax_b), (ax_c, ax_d) = axes
+    data = []
+    by_phi = {}
+    for r in rows:
+        if not r["intrinsic"]:
+            by_phi.setdefault(r["phi"], []).append(r)
+    col_phi = common.colors(by_phi)
+    for phi, runs in sorted(by_phi.items()):
+        runs.sort(key=lambda r: r["ca"])
+        ca = [r["ca"] for r in runs]
+        ax_a.plot(ca, [r["N1"] for r in runs], "o-", color=col_phi[phi], label=f"phi = {phi:g}")
+        ax_b.plot(ca, [r["N2"] for r in runs], "o-", color=col_phi[phi], label=f"phi = {phi:g}")
+        data += [{"panel": "a,b", "ca": r["ca"], "phi": phi, "N1": r["N1"], "N2": r["N2"]}
+                 for r in runs]
+    col = common.colors(coef)
+    smooth = np.linspace(0, max(by_phi), 60)
+    for ca, (b1, b2) in sorted(coef.items()):
+        phi, n1 = common.phi_with_dilute(dilute[ca], susp[ca], "N1", dilute_value=0.0)
+        ax_c.plot(phi, n1, "o", color=col[ca], label=f"Ca = {ca:g}")
+        ax_c.plot(smooth, b1 * smooth + b2 * smooth**2, ":", color="0.5")
+        data.append({"panel": "d", "ca": ca, "b1": b1, "b2": b2})
+    cas = sorted(coef)
+    ax_d.plot(cas, [coef[c][0] for c in cas], "o-", label="b1")
+    ax_d.plot(cas, [coef[c][1] for c in cas], "s--", label="b2")
+    ax_a.set(xlabel="Ca", ylabel=r"$N_1/\mu\dot\gamma$", title="(a)")
+    ax_b.set(xlabel="Ca", ylabel=r"$N_2/\mu\dot\gamma$", title="(b)")
+    ax_c.set(xlabel=r"$\phi$", ylabel=r"$N_1/\mu\dot\gamma$", title="(c)")
+    ax_d.set(xlabel="Ca", ylabel="b1, b2", title="(d)")
+    for ax in axes.flat:
+        ax.legend()
+    fig.tight_layout()
+    caption = ("Figure 7. Normal stress differences; grey dotted in (c): b1 phi + b2 phi^2, "
+               f"b2 fitted over 0 <= phi <= {args.fit_phi_max:g}. "
+               + common.footer(rows, args.t_start))
+    common.save(fig, args.out, data, caption)
+
+
+if __name__ == "__main__":
+    main(common.parse_args(__doc__.splitlines()[0]))

@@ -1,0 +1,103 @@
+"""analysis.fits and analysis.rheology on synthetic data with known answers."""
+
+import math
+
+import numpy as np
+import pytest
+
+from analysis import fits
+from analysis.rheology import box_side, rheology
+
+
+def test_second_coefficient_recovers_an_exact_quadratic():
+    phi = np.array([0.0, 0.02, 0.05, 0.08, 0.1, 0.2, 0.3])
+    mu = 2.2 * phi + 4.7 * phi**2
+    assert fits.second_coefficient(phi, mu, 2.2) == pytest.approx(4.7, rel=1e-12)
+
+
+def test_second_coefficient_uses_only_the_fitting_range():
+    # A cubic term biases c2 by c3 sum(phi^5)/sum(phi^4) over the points used (phi <= 0.1);
+    # the points at 0.2 and 0.3 (with a wild value) must not enter.
+    phi = np.array([0.05, 0.1, 0.2, 0.3])
+    mu = 2.0 * phi + 4.0 * phi**2 + 10.0 * phi**3
+    mu[3] = 100.0
+    p = phi[:2]
+    want = 4.0 + 10.0 * np.sum(p**5) / np.sum(p**4)  # = 4 + 10 * 0.0943.. = 4.9444..
+    assert fits.second_coefficient(phi, mu, 2.0) == pytest.approx(want, rel=1e-12)
+    assert want == pytest.approx(4.0 + 10.0 * (0.05**5 + 0.1**5) / (0.05**4 + 0.1**4))
+
+
+def test_second_coefficient_needs_a_point_in_range():
+    with pytest.raises(ValueError, match="no volume fraction"):
+        fits.second_coefficient([0.2, 0.3], [1.0, 2.0], 2.0)
+
+
+def test_order_shares():
+    phi = np.array([0.2, 0.4])
+    mu = 2.0 * phi + 4.0 * phi**2 + 5.0 * phi**3
+    first, second, higher = fits.order_shares(phi, mu, 2.0, 4.0)
+    # phi = 0.2: mu = 0.4 + 0.16 + 0.04 = 0.6 -> shares 2/3, 0.56/0.6, 0.04/0.6
+    assert first[0] == pytest.approx(0.4 / 0.6)
+    assert second[0] == pytest.approx(0.56 / 0.6)
+    assert higher[0] == pytest.approx(0.04 / 0.6)
+    assert higher[1] == pytest.approx(5.0 * 0.4**3 / mu[1])
+
+
+def test_kd_coefficients_paper_values():
+    # Section 4.2: with phi_m = 0.63, a1 = 2.5 and a2 ~ 5.1 (exactly 2.5 (2.5 + 1/0.63)/2).
+    a = fits.kd_coefficients(3, 0.63)
+    assert a[0] == pytest.approx(2.5)
+    assert a[1] == pytest.approx(2.5 * (2.5 + 1 / 0.63) / 2)
+    assert round(a[1], 1) == 5.1
+    assert a[2] == pytest.approx(a[1] * (2.5 + 2 / 0.63) / 3)
+
+
+def test_kd_coefficients_are_the_taylor_series_of_eq_4_7():
+    phi = np.linspace(-0.01, 0.01, 41)
+    coef = np.polyfit(phi, fits.kd_specific_viscosity(phi, 0.63), 6)[::-1]
+    assert coef[0] == pytest.approx(0.0, abs=1e-10)
+    assert coef[1:4] == pytest.approx(fits.kd_coefficients(3, 0.63), rel=1e-6)
+
+
+def test_kd_rigid_sphere_shares_match_the_paper_text():
+    # Section 4.2: for rigid spheres (KD, phi_m = 0.63) O(phi^3) terms are ~15 % of mu_sp
+    # at phi = 0.2 and ~50 % at phi = 0.4.
+    a1, a2 = fits.kd_coefficients(2, 0.63)
+    phi = np.array([0.2, 0.4])
+    _, _, higher = fits.order_shares(phi, fits.kd_specific_viscosity(phi), a1, a2)
+    assert higher[0] == pytest.approx(0.15, abs=0.02)
+    assert higher[1] == pytest.approx(0.50, abs=0.05)  # 0.533: "approximately 50 %"
+
+
+def test_fit_kd_max_packing_recovers_phi_m():
+    phi = np.array([0.05, 0.1, 0.2, 0.3, 0.4])
+    mu = fits.kd_specific_viscosity(phi, 0.55, intrinsic=2.1)
+    assert fits.fit_kd_max_packing(phi, mu, intrinsic=2.1) == pytest.approx(0.55, rel=1e-6)
+
+
+def test_linear_fit():
+    c0, c1 = fits.linear_fit([0, 0.1, 0.2, 0.3], [0.3, 0.33, 0.36, 0.39])
+    assert (c0, c1) == pytest.approx((0.3, 0.3))
+
+
+def test_rigid_sphere_stresslet_gives_einstein():
+    # A rigid sphere: S_xy = (10/3) pi mu gammadot a^3 = (10/3) pi Ca in Gs a^2 units.
+    ca = 0.2
+    s = np.zeros((3, 3))
+    s[0, 1] = s[1, 0] = 10.0 / 3.0 * math.pi * ca
+    r = rheology(s, 0.0, ca)
+    assert r["mu_sp"] == pytest.approx(2.5)
+    assert r["N1"] == 0 and r["N2"] == 0
+    assert rheology(s, 0.1, ca)["mu_sp"] == pytest.approx(0.25)
+
+
+def test_normal_stress_differences_signs():
+    s = np.diag([3.0, 1.0, 0.5])
+    r = rheology(s, 0.3, 0.1)
+    factor = 3 * 0.3 / (4 * math.pi * 0.1)
+    assert r["N1"] == pytest.approx(2.0 * factor)
+    assert r["N2"] == pytest.approx(0.5 * factor)
+
+
+def test_box_side():
+    assert box_side(100, 0.3) ** 3 * 0.3 == pytest.approx(100 * 4 * math.pi / 3)

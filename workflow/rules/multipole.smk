@@ -1,0 +1,26 @@
+# Multipole error (figure 1): for each Ca, the capsule of the dilute run at the configured
+# mesh level; `capsim multipole-error` writes the relative error of the P-patch expansion
+# (eq. 3.11) at distances r/a along the flow, vorticity and gradient directions.
+MULTIPOLE = config["multipole"]
+
+
+def multipole_tables():
+    return expand("results/multipole/ca{ca}_level{level}.csv", ca=MULTIPOLE["ca"],
+                  level=MULTIPOLE["mesh_level"])
+
+
+rule multipole_error:
+    input:
+        capsim=ancient(CAPSIM),
+        run=lambda wc: dilute_summary(wc.ca, wc.level),
+    output:
+        "results/multipole/ca{ca}_level{level}.csv",
+    log:
+        "results/logs/multipole/ca{ca}_level{level}.log",
+    params:
+        dir="results/dilute/ca{ca}_level{level}",
+        patches=" ".join(str(p) for p in MULTIPOLE["patches"]),
+        distances=" ".join(str(r) for r in MULTIPOLE["distances"]),
+    shell:
+        "{input.capsim} multipole-error {params.dir} --patches {params.patches} "
+        "--distances {params.distances} -o {output} > {log} 2>&1"
