@@ -3,6 +3,7 @@
 #include "config/run_options.hpp"
 #include "dynamics/time_stepping.hpp"
 #include "io/json_writer.hpp"
+#include "run/backend_selftest.hpp"
 #include "run/multipole_error.hpp"
 #include "run/simulation.hpp"
 #include "stokes/periodic_stokeslet.hpp"
@@ -123,6 +124,15 @@ int multipole_command(const MultipoleArgs& a) {
   return 0;
 }
 
+void add_selftest_command(CLI::App& app, std::string& backend) {
+  CLI::App* s = app.add_subcommand(
+      "selftest",
+      "Compare a backend with the CPU backend on a few evaluations and short "
+      "runs, and print the differences (for checking the CUDA backend on a GPU)");
+  s->add_option("--backend", backend, "backend to check: cpu or cuda")
+      ->check(CLI::IsMember({"cpu", "cuda"}));
+}
+
 int run_command(const RunArgs& a) {
   capsim::RunRequest request;
   request.quiet = a.quiet;
@@ -163,8 +173,15 @@ int main(int argc, char** argv) {
   add_greens_command(app, greens_args);
   MultipoleArgs multipole_args;
   add_multipole_command(app, multipole_args);
+  std::string selftest_backend = "cuda";
+  add_selftest_command(app, selftest_backend);
   CLI11_PARSE(app, argc, argv);
   try {
+    if (app.got_subcommand("selftest"))
+      return capsim::run_backend_selftest(capsim::parse_backend(selftest_backend),
+                                          std::cout)
+                 ? 0
+                 : kExitNumerical;
     if (app.got_subcommand("greens"))
       return greens_command(greens_args);
     if (app.got_subcommand("multipole-error"))
