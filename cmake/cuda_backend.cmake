@@ -12,6 +12,13 @@ endif()
 
 set(CAPSIM_HAVE_CUDA OFF)
 if(NOT _capsim_cuda STREQUAL "OFF")
+  # The toolkit's installers put nvcc in /usr/local/cuda/bin without adding it to PATH.
+  if(NOT CMAKE_CUDA_COMPILER AND NOT DEFINED ENV{CUDACXX})
+    find_program(CAPSIM_NVCC nvcc PATHS /usr/local/cuda/bin)
+    if(CAPSIM_NVCC)
+      set(CMAKE_CUDA_COMPILER "${CAPSIM_NVCC}" CACHE FILEPATH "CUDA compiler")
+    endif()
+  endif()
   include(CheckLanguage)
   check_language(CUDA)
   if(CMAKE_CUDA_COMPILER)
