@@ -5,12 +5,14 @@
 #   1. Debian packages (compilers, CMake, Ninja, Eigen, HDF5, FFTW, yaml-cpp, CLI11, Catch2,
 #      and python3-venv where `python3 -m venv` would not work): installed only if missing.
 #   2. .venv/ with the pinned requirements.txt: made again whenever requirements.txt changes.
-#   3. build/: CMake Release build of the solver, its tests and benchmarks.
+#   3. build/: CMake Release build of the solver (with the CUDA backend where nvcc is
+#      found), its tests and benchmarks.
 #
 # Usage: bash scripts/setup.sh [--no-build]
 # Environment:
 #   CAPSIM_JOBS=N      parallel build jobs (default 2)
 #   CAPSIM_NATIVE=ON   compile with -march=native (default OFF; fast but tied to this CPU)
+#   CAPSIM_CUDA=X      CUDA backend: AUTO (default; built when nvcc is found), ON, OFF
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -85,18 +87,19 @@ setup_venv() {
 
 configure_and_build() {
   local args=(-S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
-    "-DCAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}")
+    "-DCAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}" "-DCAPSIM_CUDA=${CAPSIM_CUDA:-AUTO}")
   # Choose the generator only for a fresh build directory: CMake refuses to switch it.
   if [ ! -f "$BUILD_DIR/CMakeCache.txt" ] && command -v ninja >/dev/null 2>&1; then
     args+=(-G Ninja)
   fi
-  log "configuring $BUILD_DIR/ (Release, CAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF})"
+  log "configuring $BUILD_DIR/ (Release, CAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}, CAPSIM_CUDA=${CAPSIM_CUDA:-AUTO})"
   mkdir -p "$BUILD_DIR"
   # The configure report is long; keep it in a file and show it only when it failed.
   cmake "${args[@]}" >"$BUILD_DIR/configure.log" 2>&1 || {
     cat "$BUILD_DIR/configure.log" >&2
     die "CMake configure failed (log: $BUILD_DIR/configure.log)"
   }
+  grep -h '^-- capsim: CUDA backend' "$BUILD_DIR/configure.log" | sed 's/^-- /setup: /' || true
   log "building with $JOBS jobs"
   cmake --build "$BUILD_DIR" --parallel "$JOBS" || die "build failed"
   log "build done"
@@ -107,7 +110,7 @@ main() {
   for arg in "$@"; do
     case "$arg" in
       --no-build) build=0 ;;
-      -h | --help) sed -n '2,14p' "$0"; exit 0 ;;
+      -h | --help) sed -n '2,15p' "$0"; exit 0 ;;
       *) die "unknown argument '$arg' (try --help)" ;;
     esac
   done

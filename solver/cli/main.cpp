@@ -3,6 +3,7 @@
 #include "config/run_options.hpp"
 #include "dynamics/time_stepping.hpp"
 #include "io/json_writer.hpp"
+#include "run/backend_selftest.hpp"
 #include "run/bench.hpp"
 #include "run/multipole_error.hpp"
 #include "run/simulation.hpp"
@@ -39,7 +40,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option(
       "--resume", a.resume_dir,
       "continue the run in this folder from its last checkpoint (with --set, only "
-      "t_end, t_avg_start, threads and output.* may change)");
+      "t_end, t_avg_start, threads, backend and output.* may change)");
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
 }
 
@@ -159,6 +160,15 @@ int bench_command(const BenchArgs& a) {
   return 0;
 }
 
+void add_selftest_command(CLI::App& app, std::string& backend) {
+  CLI::App* s = app.add_subcommand(
+      "selftest",
+      "Compare a backend with the CPU backend on a few evaluations and short "
+      "runs, and print the differences (for checking the CUDA backend on a GPU)");
+  s->add_option("--backend", backend, "backend to check: cpu or cuda")
+      ->check(CLI::IsMember({"cpu", "cuda"}));
+}
+
 int run_command(const RunArgs& a) {
   capsim::RunRequest request;
   request.quiet = a.quiet;
@@ -201,8 +211,15 @@ int main(int argc, char** argv) {
   add_multipole_command(app, multipole_args);
   BenchArgs bench_args;
   add_bench_command(app, bench_args);
+  std::string selftest_backend = "cuda";
+  add_selftest_command(app, selftest_backend);
   CLI11_PARSE(app, argc, argv);
   try {
+    if (app.got_subcommand("selftest"))
+      return capsim::run_backend_selftest(capsim::parse_backend(selftest_backend),
+                                          std::cout)
+                 ? 0
+                 : kExitNumerical;
     if (app.got_subcommand("greens"))
       return greens_command(greens_args);
     if (app.got_subcommand("multipole-error"))

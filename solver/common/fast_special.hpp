@@ -43,6 +43,15 @@ CAPSIM_HD double exp_nonpositive(double y) {
   return p * scale;
 }
 
+// p * z^(N - I) + ... evaluated by Horner's rule from coefficient I on, unrolled at
+// compile time: a loop left inside erfcx would stop the callers' loops vectorising.
+template <int I, int N> CAPSIM_HD double horner(const double* a, double z, double p) {
+  if constexpr (I == N)
+    return p;
+  else
+    return horner<I + 1, N>(a, z, p * z + a[I]);
+}
+
 // The scaled complementary error function erfcx(x) = exp(x^2) erfc(x) for x >= 0, by
 // Weideman's rational expansion (SIAM J. Numer. Anal. 31, 1994, eq. for w(z) at z = i x):
 //   erfcx(x) = 2 p(Z)/(K + x)^2 + 1/(sqrt(pi) (K + x)),  Z = (K - x)/(K + x),
@@ -63,15 +72,7 @@ CAPSIM_HD double erfcx_nonnegative(double x) {
       0.90192548936479988,     1.3455441692345449,      1.8256696296324815,
       2.2635372999002676,      2.5722534081245696};
   const double inv = 1.0 / (K + x), z = (K - x) * inv;
-  double p = a[0];
-  // Unrolled to straight-line code: a loop left inside would stop callers vectorising.
-#if defined(__CUDACC__)
-#pragma unroll
-#else
-#pragma GCC unroll 32
-#endif
-  for (int i = 1; i < 32; ++i)
-    p = p * z + a[i];
+  const double p = horner<1, 32>(a, z, a[0]);
   return (2.0 * p * inv + 0.56418958354775628) * inv; // 0.5641... = 1/sqrt(pi)
 }
 

@@ -1,5 +1,7 @@
 #include "config/run_options.hpp"
 
+#include "cuda/device_query.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -252,6 +254,11 @@ const std::vector<Param>& parameters() {
           "threads", {0, 1024, false, false},
           [](RunOptions& o) -> int& { return o.threads; },
           "OpenMP threads; 0 = the OpenMP default"),
+      choice(
+          "backend", {"cpu", "cuda"},
+          [](RunOptions& o) -> std::string& { return o.backend; },
+          "where the flow is evaluated: cpu (OpenMP) or cuda (one GPU; lumped load and "
+          "the spectral method only)"),
   };
   return table;
 }
@@ -279,6 +286,20 @@ void flatten(const YAML::Node& node, const std::string& prefix,
   }
 }
 
+// backend: cuda needs a device, and does not (yet) have every option of the CPU path.
+void validate_cuda_backend(const RunOptions& o) {
+  const std::string reason = cuda_unavailable_reason();
+  if (!reason.empty())
+    throw ConfigError("backend: cuda is not available here: " + reason +
+                      "; use backend: cpu");
+  if (o.load != LoadMapping::lumped)
+    throw ConfigError("membrane.load: must be lumped with backend: cuda, got '" +
+                      to_string(o.load) + "'");
+  if (o.phi > 0 && o.method != "spectral")
+    throw ConfigError("method: must be spectral with backend: cuda, got '" + o.method +
+                      "'");
+}
+
 // Checks that involve more than one key.
 void validate(const RunOptions& o) {
   if (o.t_avg_start >= o.t_end)
@@ -287,6 +308,8 @@ void validate(const RunOptions& o) {
   if (o.phi == 0 && o.capsules != 1)
     throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
                       std::to_string(o.capsules));
+  if (o.backend == "cuda")
+    validate_cuda_backend(o);
 }
 
 } // namespace

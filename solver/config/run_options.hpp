@@ -47,7 +47,8 @@ struct RunOptions {
   EwaldOptions ewald;
   SuspensionOptions suspension;
   OutputOptions output;
-  int threads = 0; // OpenMP threads; 0 = the OpenMP default
+  int threads = 0;             // OpenMP threads; 0 = the OpenMP default
+  std::string backend = "cpu"; // where the flow is evaluated: cpu or cuda (a GPU)
 };
 
 // Thrown for bad input; the message names the key and the allowed range.

@@ -1,5 +1,6 @@
 #include "dynamics/time_stepping.hpp"
 
+#include "cuda/device_flow.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "stokes/periodic_single_layer.hpp"
 
@@ -22,11 +23,27 @@ PeriodicBox make_periodic_box(double L, const std::string& method, double tolera
   return box;
 }
 
+Backend parse_backend(const std::string& name) {
+  if (name == "cpu")
+    return Backend::cpu;
+  if (name == "cuda")
+    return Backend::cuda;
+  throw std::invalid_argument("backend must be one of {cpu, cuda}, got '" + name + "'");
+}
+
+std::string to_string(Backend b) {
+  return b == Backend::cpu ? "cpu" : "cuda";
+}
+
 CapsuleFlow::CapsuleFlow(const Membrane& membrane, int num_capsules, double shear_rate,
-                         LoadMapping load, QuadratureOptions quadrature, PeriodicBox box)
+                         LoadMapping load, QuadratureOptions quadrature, PeriodicBox box,
+                         Backend backend)
     : membrane_(membrane), num_capsules_(num_capsules), shear_rate_(shear_rate),
       load_(load), quadrature_(quadrature), box_(box) {
-  if (box_.L > 0 && box_.spectral)
+  if (backend == Backend::cuda)
+    device_ = std::make_shared<DeviceFlow>(membrane, num_capsules, shear_rate, load,
+                                           quadrature, box);
+  else if (box_.L > 0 && box_.spectral)
     spectral_ = std::make_shared<SpectralEwald>(box_.L, box_.ewald, box_.grid);
 }
 
@@ -43,17 +60,27 @@ std::vector<double> CapsuleFlow::energy_gradient(const std::vector<Vec3>& x,
   return energy;
 }
 
-void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
-                           std::vector<Vec3>& u) const {
-  const Topology& topo = membrane_.topology();
-  const int nn = topo.num_nodes;
-  std::vector<Vec3> grad, q(x.size()), qc;
+void CapsuleFlow::traction(const std::vector<Vec3>& x, std::vector<Vec3>& q) const {
+  if (device_)
+    return device_->traction(x, q);
+  const int nn = membrane_.topology().num_nodes;
+  std::vector<Vec3> grad, qc;
+  q.resize(x.size());
   energy_gradient(x, grad);
   for (int c = 0; c < num_capsules_; ++c) {
     std::vector<Vec3> gc(grad.begin() + c * nn, grad.begin() + (c + 1) * nn);
     membrane_.nodal_load(&x[c * nn], gc, load_, qc);
     std::copy(qc.begin(), qc.end(), q.begin() + c * nn);
   }
+}
+
+void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
+                           std::vector<Vec3>& u) const {
+  if (device_)
+    return device_->velocity(x, t, u);
+  const Topology& topo = membrane_.topology();
+  std::vector<Vec3> q;
+  traction(x, q);
   if (periodic())
     periodic_single_layer_velocity(topo, num_capsules_, x, q, lattice(t), box_.ewald,
                                    quadrature_, u, spectral_.get());
@@ -64,6 +91,8 @@ void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
 }
 
 void rk2_step(const CapsuleFlow& flow, std::vector<Vec3>& x, double t, double dt) {
+  if (flow.device())
+    return flow.device()->rk2_step(x, t, dt);
   std::vector<Vec3> u0, u1, xs(x.size());
   flow.velocity(x, t, u0);
   for (size_t i = 0; i < x.size(); ++i)

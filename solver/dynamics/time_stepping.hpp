@@ -33,12 +33,25 @@ struct PeriodicBox {
 PeriodicBox make_periodic_box(double L, const std::string& method, double tolerance,
                               double xi, long nodes, long points);
 
+// Where the velocity field is evaluated: the CPU (OpenMP), or a CUDA device
+// (cuda/device_flow.hpp) with the data resident there between steps.
+enum class Backend { cpu, cuda };
+
+Backend parse_backend(const std::string& name); // throws std::invalid_argument
+std::string to_string(Backend b);
+
+class DeviceFlow;
+
 // The velocity field of M capsules in simple shear v_inf = (shear_rate y, 0, 0)
 // (shear_rate = 0: quiescent fluid), unbounded or in a sheared periodic box.
 class CapsuleFlow {
 public:
   CapsuleFlow(const Membrane& membrane, int num_capsules, double shear_rate,
-              LoadMapping load, QuadratureOptions quadrature, PeriodicBox box = {});
+              LoadMapping load, QuadratureOptions quadrature, PeriodicBox box = {},
+              Backend backend = Backend::cpu);
+
+  // The traction jump q at the nodes (capsule after capsule) at positions x.
+  void traction(const std::vector<Vec3>& x, std::vector<Vec3>& q) const;
 
   // Node velocities u at positions x and time t (the time sets the lattice strain).
   void velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const;
@@ -53,6 +66,9 @@ public:
   }
   const Membrane& membrane() const { return membrane_; }
   int num_capsules() const { return num_capsules_; }
+  Backend backend() const { return device_ ? Backend::cuda : Backend::cpu; }
+  // The device evaluation when the backend is cuda, else null.
+  DeviceFlow* device() const { return device_.get(); }
 
 private:
   const Membrane& membrane_;
@@ -62,10 +78,11 @@ private:
   QuadratureOptions quadrature_;
   PeriodicBox box_;
   std::shared_ptr<SpectralEwald> spectral_; // FFT plans and grids, made once
+  std::shared_ptr<DeviceFlow> device_;      // the cuda backend's state, when selected
 };
 
-// One Heun step from time t: x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t +
-// dt)).
+// One Heun step from time t (on the flow's backend): x* = x + dt u(x, t); x <- x + dt/2
+// (u(x, t) + u(x*, t + dt)).
 void rk2_step(const CapsuleFlow& flow, std::vector<Vec3>& x, double t, double dt);
 
 // Moves each capsule's nodes along their normals by (V0 - V)/A until the relative volume

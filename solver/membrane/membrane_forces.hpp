@@ -38,6 +38,8 @@ public:
 
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
+  // The reference state of every element (what a device copy of the membrane needs).
+  const std::vector<ElementReference>& references() const { return refs_; }
 
 private:
   Topology topo_;

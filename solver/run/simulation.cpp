@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 namespace capsim {
 
 bool may_change_on_resume(const std::string& key) {
-  return key == "t_end" || key == "t_avg_start" || key == "threads" ||
+  return key == "t_end" || key == "t_avg_start" || key == "threads" || key == "backend" ||
          key.rfind("output.", 0) == 0;
 }
 
@@ -73,7 +73,7 @@ public:
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
         box_(periodic_box(o, mesh_.topology)),
         flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load, o.quadrature,
-              box_) {
+              box_, parse_backend(o.backend)) {
     dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety);
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
     sample_every_ = steps_for(o.output.sample_interval, dt_);
@@ -282,7 +282,8 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
       throw ConfigError(
           "--set " + key +
           ": cannot change on --resume (it would change the "
-          "steps already taken); only t_end, t_avg_start, threads and output.* "
+          "steps already taken); only t_end, t_avg_start, threads, backend and "
+          "output.* "
           "can. Start a new run for other values");
   }
   return parse_run_options(c.options_yaml, overrides, "checkpoint in " + dir);

@@ -23,19 +23,6 @@ CAPSIM_HD Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
   return (e1 * rinv) * f + (e2 * dot(r, f) * rinv * rinv * rinv) * r;
 }
 
-// The real-space kernel minus the free-space Stokeslet: bounded at r = 0, where it tends
-// to
-// -(8 xi / sqrt pi) f, so that a singular quadrature of the free part plus a regular one
-// of this part gives the screened kernel.
-CAPSIM_HD Vec3 ewald_real_minus_free_apply(Vec3 r, Vec3 f, double xi) {
-  double rr = std::sqrt(dot(r, r)), x = xi * rr;
-  if (x < 1e-6)
-    return (-8.0 * xi / kSqrtPi) * f; // (E1 - 1)/r -> -8 xi/sqrt pi, E2 - 1 = O(x^3)
-  double x3 = x * x * x, g = std::exp(-x * x) / kSqrtPi, c = std::erfc(x);
-  double e1 = c + g * (4.0 * x3 - 6.0 * x) - 1.0, e2 = c + g * (2.0 * x - 4.0 * x3) - 1.0;
-  return (e1 / rr) * f + (e2 * dot(r, f) / (rr * rr * rr)) * r;
-}
-
 // Reciprocal-space weight of wave vector k (eq. 2.5 without the cosine) applied to f:
 // (I/k^2 - k k / k^4) (1 + k^2/(4 xi^2) + k^4/(8 xi^4)) exp(-k^2/(4 xi^2)) f.
 CAPSIM_HD Vec3 ewald_recip_apply(Vec3 k, Vec3 f, double xi) {

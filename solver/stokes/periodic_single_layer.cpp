@@ -2,6 +2,7 @@
 
 #include "stokes/ewald_kernel.hpp"
 #include "stokes/ewald_reciprocal.hpp"
+#include "stokes/near_corrections.hpp"
 #include "stokes/periodic_cells.hpp"
 #include "stokes/real_space_sum.hpp"
 #include "stokes/triangle_sources.hpp"
@@ -11,27 +12,6 @@
 #include <stdexcept>
 
 namespace capsim {
-namespace {
-
-// Correction for an image (triangle t moved by the lattice vector `shift`) near x: its
-// accurate free-space integral minus the 3-point rule of the free-space kernel. The
-// real-space and reciprocal sums together apply the 3-point rule to the whole periodic
-// kernel J^E, so this leaves, for near triangles, accurate(J) + rule(J^E - J): the
-// remainder J^E - J is smooth on the scale of the box, whatever xi is, and xi can be
-// chosen for speed alone.
-Vec3 near_correction(Vec3 x, int node, const Topology& topo, int t_global,
-                     TriangleLoad load, Vec3 shift, const QuadratureOptions& o,
-                     const LineRule& gl) {
-  for (auto& v : load.p)
-    v += shift;
-  // The singular rule only for the triangle's own image at its own vertex.
-  const int vertex = dot(shift, shift) == 0 ? vertex_index(topo, node, t_global) : -1;
-  return accurate_single_layer(x, vertex, load, o, gl) -
-         integrate_regular(x, load, triangle_rule_3());
-}
-
-} // namespace
-
 void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
                                     const std::vector<Vec3>& x,
                                     const std::vector<Vec3>& q,
@@ -54,6 +34,7 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
   const FarSources far = far_sources(loads);
   const PeriodicCells triangle_cells(lattice, quad.far_ratio * max_diam, centroids);
   const LineRule gl = gauss_legendre_01(quad.singular_points);
+  const NearRule rule = near_rule(quad, gl);
   const int n = int(x.size());
   u.assign(n, Vec3{});
   const double t1 = omp_get_wtime();
@@ -67,7 +48,7 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
       Vec3 shift = image - centroids[t]; // a lattice vector, up to round-off
       if (norm(shift) < 1e-9 * lattice.L)
         shift = {};
-      sum += near_correction(x[i], i, topo, t, loads[t], shift, quad, gl);
+      sum += image_near_correction(x[i], vertex_index(topo, i, t), loads[t], shift, rule);
     });
     u[i] = sum;
   }

@@ -1,7 +1,7 @@
 #include "stokes/spectral_ewald.hpp"
 
-#include "common/fast_special.hpp"
 #include "stokes/ewald_kernel.hpp"
+#include "stokes/spectral_weights.hpp"
 #include "stokes/stokeslet.hpp"
 
 #include <cmath>
@@ -15,7 +15,8 @@ namespace capsim {
 namespace {
 
 // The smallest even n' >= n with no prime factor above 5: FFTW is several times slower on
-// sizes with larger factors (a 242^3 grid, 2 * 11^2, took over 20 times longer than 240^3).
+// sizes with larger factors (a 242^3 grid, 2 * 11^2, took over 20 times longer than
+// 240^3).
 int fft_friendly_size(int n) {
   for (;; ++n) {
     if (n % 2)
@@ -79,13 +80,7 @@ struct SpectralEwald::Impl {
   fftw_complex* spectrum;
   fftw_plan forward, backward;
 
-  double gauss_norm = 0, gauss_rate = 0; // g(r) = norm exp(-rate r^2)
-  std::vector<double> ramp;              // exp(-rate a^2 h^2), a = 0 .. P-1
-  struct Column {
-    int index[64];
-    double weight[64];
-  };
-  template <class Row> void stencil(const ShearedLattice& g, Vec3 y, Row row) const;
+  SpreadGrid spread_grid; // the Gaussian and its stencils (spectral_weights.hpp)
   void scale_spectrum(const ShearedLattice& g);
   void spread(const ShearedLattice& g, const FarSources& src) const;
 };
@@ -111,16 +106,17 @@ void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src)
     for (int k : members[slab]) {
       const Vec3 y{src.y[0][k], src.y[1][k], src.y[2][k]};
       const double f[3] = {src.f[0][k], src.f[1][k], src.f[2][k]};
-      stencil(g, y, [&](size_t base, double w, const Column& c) {
-        double* row = grid + 3 * base;
-        const double w0 = w * f[0], w1 = w * f[1], w2 = w * f[2];
-        for (int b = 0; b < p.support; ++b) {
-          double* point = row + 3 * c.index[b];
-          point[0] += w0 * c.weight[b];
-          point[1] += w1 * c.weight[b];
-          point[2] += w2 * c.weight[b];
-        }
-      });
+      for_each_spread_row(spread_grid, g, y,
+                          [&](size_t base, double w, const SpreadColumn& c) {
+                            double* row = grid + 3 * base;
+                            const double w0 = w * f[0], w1 = w * f[1], w2 = w * f[2];
+                            for (int b = 0; b < p.support; ++b) {
+                              double* point = row + 3 * c.index[b];
+                              point[0] += w0 * c.weight[b];
+                              point[1] += w1 * c.weight[b];
+                              point[2] += w2 * c.weight[b];
+                            }
+                          });
     }
   };
   if (slabs == 1) {
@@ -131,39 +127,6 @@ void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src)
 #pragma omp parallel for schedule(dynamic, 1)
     for (int slab = parity; slab < slabs; slab += 2)
       spread_slab(slab);
-  }
-}
-
-// Visits the P^3 grid points around y as P^2 rows along the third grid direction:
-// row(base, w, column) for grid points base + column.index[b] with Gaussian weights
-// g(z_j - y) = w column.weight[b]. The j1 range is re-centred for every j2, so the
-// stencil follows the sheared cell exactly. Along j1 the weights come from the
-// recurrence exp(-rate (d + a h)^2) = exp(-rate d^2) exp(-2 rate d h)^a exp(-rate a^2
-// h^2) (Greengard & Lee's fast Gaussian gridding): two exponentials per row, not P.
-template <class Row>
-void SpectralEwald::Impl::stencil(const ShearedLattice& g, Vec3 y, Row row) const {
-  const int m = p.grid, half = p.support / 2;
-  const double h = L / m, rate = gauss_rate;
-  const double u2 = y.y / L * m, u3 = y.z / L * m, u1 = (y.x - g.s * y.y) / L * m;
-  const int c2 = int(std::floor(u2)) - half + 1, c3 = int(std::floor(u3)) - half + 1;
-  auto wrap = [m](int j) { return ((j % m) + m) % m; };
-  Column column;
-  for (int b = 0; b < p.support; ++b) {
-    const double dz = (c3 + b - u3) * h;
-    column.index[b] = wrap(c3 + b);
-    column.weight[b] = exp_nonpositive(-rate * dz * dz);
-  }
-  for (int a2 = 0; a2 < p.support; ++a2) {
-    const int j2 = c2 + a2;
-    const double dy = (j2 - u2) * h, gy = gauss_norm * exp_nonpositive(-rate * dy * dy);
-    const double centre1 = u1 - g.s * (j2 - u2); // x-offset zero at this j1
-    const int c1 = int(std::floor(centre1)) - half + 1;
-    const double d0 = ((c1 - u1) + g.s * (j2 - u2)) * h;
-    const double step = std::exp(-2.0 * rate * d0 * h);
-    double gx = gy * exp_nonpositive(-rate * d0 * d0);
-    const size_t j2w = size_t(wrap(j2));
-    for (int a1 = 0; a1 < p.support; ++a1, gx *= step)
-      row((size_t(wrap(c1 + a1)) * m + j2w) * m, gx * ramp[a1], column);
   }
 }
 
@@ -178,26 +141,12 @@ void SpectralEwald::Impl::scale_spectrum(const ShearedLattice& g) {
     for (int i2 = 0; i2 < m; ++i2)
       for (int i3 = 0; i3 < mh; ++i3) {
         const size_t k_index = (size_t(i1) * m + i2) * mh + i3;
-        const int m1 = i1 <= m / 2 ? i1 : i1 - m, m2 = i2 <= m / 2 ? i2 : i2 - m;
-        const bool nyquist =
-            2 * std::abs(m1) == m || 2 * std::abs(m2) == m || 2 * i3 == m;
-        Vec3 k = reciprocal_point(g, m1, m2, i3);
-        double k2 = dot(k, k);
-        if (nyquist || k2 == 0) {
-          for (int a = 0; a < 3; ++a)
-            spectrum[3 * k_index + a][0] = spectrum[3 * k_index + a][1] = 0;
-          continue;
-        }
-        double q = k2 / (4.0 * xi * xi);
-        double w = c * (1.0 + q + 2.0 * q * q) * std::exp(-(1.0 - p.eta) * q) / k2;
-        for (int part = 0; part < 2; ++part) {
-          fftw_complex* sk = spectrum + 3 * k_index;
-          Vec3 f{sk[0][part], sk[1][part], sk[2][part]};
-          Vec3 r = w * (f - (dot(k, f) / k2) * k);
-          sk[0][part] = r.x;
-          sk[1][part] = r.y;
-          sk[2][part] = r.z;
-        }
+        fftw_complex* sk = spectrum + 3 * k_index;
+        double re[3] = {sk[0][0], sk[1][0], sk[2][0]};
+        double im[3] = {sk[0][1], sk[1][1], sk[2][1]};
+        scale_spectral_mode(g, m, i1, i2, i3, xi, p.eta, c, re, im);
+        for (int a = 0; a < 3; ++a)
+          sk[a][0] = re[a], sk[a][1] = im[a];
       }
 }
 
@@ -208,11 +157,9 @@ SpectralEwald::SpectralEwald(double L, const EwaldParameters& ewald,
   s.L = L;
   s.xi = ewald.xi;
   s.p = p;
-  s.gauss_norm = std::pow(2.0 * s.xi * s.xi / (kPi * p.eta), 1.5);
-  s.gauss_rate = 2.0 * s.xi * s.xi / p.eta;
-  const double h = L / p.grid;
-  for (int a = 0; a < p.support; ++a)
-    s.ramp.push_back(std::exp(-s.gauss_rate * a * a * h * h));
+  if (p.support > kMaxSpreadSupport)
+    throw std::invalid_argument("spectral Ewald: support above the stencil limit");
+  s.spread_grid = make_spread_grid(L, p.grid, p.support, s.xi, p.eta);
   const int m = p.grid;
   s.n_real = size_t(m) * m * m;
   s.n_complex = size_t(m) * m * (m / 2 + 1);
@@ -252,16 +199,17 @@ void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& sr
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < targets.size(); ++i) {
     Vec3 sum;
-    s.stencil(g, targets[i], [&](size_t base, double w, const Impl::Column& c) {
-      double sx = 0, sy = 0, sz = 0;
-      for (int b = 0; b < s.p.support; ++b) {
-        const size_t j = base + c.index[b];
-        sx += c.weight[b] * s.grid[3 * j];
-        sy += c.weight[b] * s.grid[3 * j + 1];
-        sz += c.weight[b] * s.grid[3 * j + 2];
-      }
-      sum += w * Vec3{sx, sy, sz};
-    });
+    for_each_spread_row(s.spread_grid, g, targets[i],
+                        [&](size_t base, double w, const SpreadColumn& c) {
+                          double sx = 0, sy = 0, sz = 0;
+                          for (int b = 0; b < s.p.support; ++b) {
+                            const size_t j = base + c.index[b];
+                            sx += c.weight[b] * s.grid[3 * j];
+                            sy += c.weight[b] * s.grid[3 * j + 1];
+                            sz += c.weight[b] * s.grid[3 * j + 2];
+                          }
+                          sum += w * Vec3{sx, sy, sz};
+                        });
     u[i] += cell * sum;
   }
   if (timings) {

@@ -1,5 +1,7 @@
 #include "stokes/triangle_sources.hpp"
 
+#include "stokes/near_corrections.hpp"
+
 namespace capsim {
 
 TriangleLoad triangle_load(const Topology& topo, const std::vector<Vec3>& x,
@@ -45,12 +47,20 @@ int vertex_index(const Topology& topo, int node, int t_global) {
   return -1;
 }
 
+NearRule near_rule(const QuadratureOptions& o, const LineRule& gl) {
+  NearRule r;
+  r.far_ratio = o.far_ratio;
+  r.near_ratio = o.near_ratio;
+  r.max_depth = o.max_depth;
+  r.gl_x = gl.x.data();
+  r.gl_w = gl.w.data();
+  r.gl_n = int(gl.x.size());
+  return r;
+}
+
 Vec3 accurate_single_layer(Vec3 x, int vertex, const TriangleLoad& t,
                            const QuadratureOptions& o, const LineRule& gl) {
-  if (vertex >= 0)
-    return integrate_singular_vertex(vertex, t, gl.x.data(), gl.w.data(),
-                                     int(gl.x.size()));
-  return integrate_adaptive(x, t, o.near_ratio, o.max_depth);
+  return integrate_accurate(x, vertex, t, near_rule(o, gl));
 }
 
 } // namespace capsim

@@ -4,6 +4,7 @@
 // sums.
 #include "mesh/icosphere.hpp"
 #include "stokes/element_integrals.hpp"
+#include "stokes/near_corrections.hpp"
 #include "stokes/single_layer.hpp"
 
 #include <vector>
@@ -26,6 +27,10 @@ FarSources far_sources(const std::vector<TriangleLoad>& loads);
 // Which vertex (0-2) of triangle `t_global` the node `node` (both global, capsule after
 // capsule) is, or -1.
 int vertex_index(const Topology& topo, int node, int t_global);
+
+// The quadrature options as the plain rule that host-device code takes (gl must outlive
+// it).
+NearRule near_rule(const QuadratureOptions& o, const LineRule& gl);
 
 // The accurate int J(x - y) q dA over one triangle: the polar rule when x is its vertex
 // `vertex`, adaptive subdivision otherwise.

@@ -1,0 +1,193 @@
+#include "cuda/device_flow.hpp"
+
+#include "cuda/device_buffer.hpp"
+#include "cuda/device_fft.hpp"
+#include "cuda/device_kernels.hpp"
+
+#include <stdexcept>
+
+namespace capsim {
+
+using cuda::DeviceArray;
+
+struct DeviceFlow::Impl {
+  // The mesh (one topology for all capsules) and its reference state.
+  DeviceArray<int> triangles, corner_offset, corner;
+  DeviceArray<ElementReference> refs;
+  cuda::MeshView mesh;
+  double gs = 0, shear_rate = 0;
+  // Accurate quadrature: options plus the Gauss-Legendre rule of the polar integrals.
+  DeviceArray<double> gl_x, gl_w;
+  NearRule rule;
+  // Work arrays: positions, the Heun stage, velocities, traction, sources.
+  DeviceArray<Vec3> x, xs, u0, u1, q, corner_grad, y, f;
+  DeviceArray<double> area;
+  DeviceArray<TriangleLoad> loads;
+  DeviceArray<cuda::TriangleBounds> bounds;
+  // The periodic box and Spectral Ewald (grid of 3 components, their spectra, plans).
+  PeriodicBox box;
+  SpreadGrid spread;
+  DeviceArray<double> grid, spectrum;
+  std::unique_ptr<cuda::DeviceFft3> fft;
+
+  void upload_mesh(const Membrane& membrane, int num_capsules);
+  void compute_traction(const Vec3* xd);
+  void compute_velocity(const Vec3* xd, double t, Vec3* ud);
+  void add_reciprocal(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
+};
+
+namespace {
+
+// What the device path supports; the messages name the config key to change.
+void check_supported(LoadMapping load, const PeriodicBox& box) {
+  if (load != LoadMapping::lumped)
+    throw std::invalid_argument(
+        "backend cuda: membrane.load must be lumped (the consistent mass-matrix solve "
+        "has no device version yet)");
+  if (box.L <= 0)
+    return;
+  if (!box.spectral)
+    throw std::invalid_argument(
+        "backend cuda: method must be spectral (direct Ewald sums run on the CPU only)");
+  // Below L/3 the nearest image of a source is the only one within r_cut (the shortest
+  // lattice vector of the sheared box is L, and fractional wrapping finds that image).
+  if (box.ewald.r_cut >= box.L / 3)
+    throw std::invalid_argument(
+        "backend cuda: the real-space cut-off must stay below L/3: raise ewald.xi");
+  if (box.grid.support > kMaxSpreadSupport)
+    throw std::invalid_argument("backend cuda: Spectral Ewald support above " +
+                                std::to_string(kMaxSpreadSupport) +
+                                " points: raise ewald.tolerance");
+}
+
+} // namespace
+
+void DeviceFlow::Impl::upload_mesh(const Membrane& membrane, int num_capsules) {
+  const Topology& topo = membrane.topology();
+  const int nt = int(topo.triangles.size()), nn = topo.num_nodes;
+  std::vector<int> tri(3 * nt), offset(nn + 1, 0), corners(3 * nt);
+  for (int e = 0; e < nt; ++e)
+    for (int k = 0; k < 3; ++k) {
+      tri[3 * e + k] = topo.triangles[e][k];
+      ++offset[topo.triangles[e][k] + 1];
+    }
+  for (int a = 0; a < nn; ++a)
+    offset[a + 1] += offset[a];
+  // Corners in element order: each node sums its gradients in the CPU assembly's order.
+  std::vector<int> fill(offset.begin(), offset.end() - 1);
+  for (int e = 0; e < nt; ++e)
+    for (int k = 0; k < 3; ++k)
+      corners[fill[topo.triangles[e][k]]++] = 3 * e + k;
+  triangles.upload(tri);
+  corner_offset.upload(offset);
+  corner.upload(corners);
+  refs.upload(membrane.references());
+  mesh.triangles = triangles.data();
+  mesh.refs = refs.data();
+  mesh.node_corner_offset = corner_offset.data();
+  mesh.node_corner = corner.data();
+  mesh.tri_per_capsule = nt;
+  mesh.nodes_per_capsule = nn;
+  mesh.capsules = num_capsules;
+}
+
+DeviceFlow::DeviceFlow(const Membrane& membrane, int num_capsules, double shear_rate,
+                       LoadMapping load, const QuadratureOptions& quadrature,
+                       const PeriodicBox& box)
+    : impl_(std::make_unique<Impl>()) {
+  check_supported(load, box);
+  Impl& s = *impl_;
+  s.upload_mesh(membrane, num_capsules);
+  s.gs = membrane.shear_modulus();
+  s.shear_rate = shear_rate;
+  const LineRule gl = gauss_legendre_01(quadrature.singular_points);
+  s.gl_x.upload(gl.x);
+  s.gl_w.upload(gl.w);
+  s.rule.far_ratio = quadrature.far_ratio;
+  s.rule.near_ratio = quadrature.near_ratio;
+  s.rule.max_depth = quadrature.max_depth;
+  s.rule.gl_x = s.gl_x.data();
+  s.rule.gl_w = s.gl_w.data();
+  s.rule.gl_n = int(gl.x.size());
+  const size_t n = size_t(s.mesh.num_nodes()), nt = size_t(s.mesh.num_triangles());
+  for (auto* a : {&s.x, &s.xs, &s.u0, &s.u1, &s.q})
+    a->resize(n);
+  for (auto* a : {&s.corner_grad, &s.y, &s.f})
+    a->resize(3 * nt);
+  s.area.resize(nt);
+  s.loads.resize(nt);
+  s.bounds.resize(nt);
+  s.box = box;
+  if (box.L > 0) {
+    const int m = box.grid.grid;
+    s.spread = make_spread_grid(box.L, m, box.grid.support, box.ewald.xi, box.grid.eta);
+    s.grid.resize(3 * size_t(m) * m * m);
+    s.spectrum.resize(3 * 2 * size_t(m) * m * (m / 2 + 1));
+    s.fft = std::make_unique<cuda::DeviceFft3>(m);
+  }
+}
+
+DeviceFlow::~DeviceFlow() = default;
+
+void DeviceFlow::Impl::compute_traction(const Vec3* xd) {
+  cuda::element_forces(mesh, gs, xd, corner_grad.data(), area.data());
+  cuda::gather_nodes(mesh, corner_grad.data(), area.data(), true, q.data());
+}
+
+// The same sequence as the CPU's spectral_ewald.cpp: spread, forward FFT, multiplier
+// (with 8 pi / M^3: the 8 pi / V of eq. 2.3 times V / M^3), backward FFT, gather.
+void DeviceFlow::Impl::add_reciprocal(const ShearedLattice& g, const Vec3* xd, Vec3* ud) {
+  const int m = spread.m;
+  const double n_real = double(m) * m * m;
+  grid.zero();
+  cuda::spread(spread, g, int(y.size()), y.data(), f.data(), grid.data());
+  fft->forward(grid.data(), spectrum.data());
+  cuda::scale_spectrum(g, m, box.ewald.xi, box.grid.eta, 8.0 * kPi / n_real,
+                       spectrum.data());
+  fft->backward(spectrum.data(), grid.data());
+  cuda::gather(spread, g, mesh.num_nodes(), xd, grid.data(), g.L * g.L * g.L / n_real,
+               ud);
+}
+
+void DeviceFlow::Impl::compute_velocity(const Vec3* xd, double t, Vec3* ud) {
+  compute_traction(xd);
+  cuda::triangle_sources(mesh, xd, q.data(), loads.data(), bounds.data(), y.data(),
+                         f.data());
+  const int n = mesh.num_nodes(), m = int(y.size());
+  if (box.L > 0) {
+    const ShearedLattice g = make_sheared_lattice(box.L, shear_rate * t);
+    cuda::screened_far_sum(g, box.ewald.xi, box.ewald.r_cut, n, xd, m, y.data(), f.data(),
+                           ud);
+    cuda::periodic_near_corrections(g, mesh, xd, loads.data(), rule, ud);
+    add_reciprocal(g, xd, ud);
+  } else {
+    cuda::free_far_sum(n, xd, m, y.data(), f.data(), ud);
+    cuda::free_near_corrections(mesh, xd, loads.data(), bounds.data(), rule, ud);
+  }
+  cuda::finish_velocity(n, xd, shear_rate, ud);
+}
+
+void DeviceFlow::traction(const std::vector<Vec3>& x, std::vector<Vec3>& q) {
+  impl_->x.upload(x);
+  impl_->compute_traction(impl_->x.data());
+  impl_->q.download(q);
+}
+
+void DeviceFlow::velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) {
+  impl_->x.upload(x);
+  impl_->compute_velocity(impl_->x.data(), t, impl_->u0.data());
+  impl_->u0.download(u);
+}
+
+void DeviceFlow::rk2_step(std::vector<Vec3>& x, double t, double dt) {
+  Impl& s = *impl_;
+  const int n = s.mesh.num_nodes();
+  s.x.upload(x);
+  s.compute_velocity(s.x.data(), t, s.u0.data());
+  cuda::advance(n, s.x.data(), dt, s.u0.data(), s.xs.data());
+  s.compute_velocity(s.xs.data(), t + dt, s.u1.data());
+  cuda::heun_combine(n, 0.5 * dt, s.u0.data(), s.u1.data(), s.x.data());
+  s.x.download(x);
+}
+
+} // namespace capsim

@@ -1,0 +1,79 @@
+#pragma once
+// Launchers of the CUDA kernels (defined in the .cu files next to this one). Plain C++
+// declarations over device pointers, so that the host side (device_flow.cpp) is ordinary
+// C++. Every kernel is a loop over targets or sources around a host-device function of
+// membrane/ or stokes/; all run on the default stream, in order.
+#include "membrane/neo_hookean.hpp"
+#include "stokes/element_integrals.hpp"
+#include "stokes/near_corrections.hpp"
+#include "stokes/sheared_lattice.hpp"
+#include "stokes/spectral_weights.hpp"
+
+namespace capsim::cuda {
+
+// The mesh of M capsules sharing one topology, in device memory. Global node i is node
+// i % nodes_per_capsule of capsule i / nodes_per_capsule; triangles likewise.
+struct MeshView {
+  const int* triangles = nullptr;          // 3 local node indices per triangle
+  const ElementReference* refs = nullptr;  // reference state per triangle
+  const int* node_corner_offset = nullptr; // node a's corners: [offset[a], offset[a+1])
+  const int* node_corner = nullptr;        // 3 * triangle + corner, one capsule
+  int tri_per_capsule = 0, nodes_per_capsule = 0, capsules = 0;
+  CAPSIM_HD int num_triangles() const { return tri_per_capsule * capsules; }
+  CAPSIM_HD int num_nodes() const { return nodes_per_capsule * capsules; }
+};
+
+// Each triangle's centroid and diameter (the near test).
+struct TriangleBounds {
+  Vec3 centroid;
+  double diameter = 0;
+};
+
+// --- membrane_kernels.cu ---------------------------------------------------------------
+// dW/dx of every element at its three corners (corner_grad[3 e + k]) and its area.
+void element_forces(const MeshView& mesh, double gs, const Vec3* x, Vec3* corner_grad,
+                    double* area);
+// Per node: the sum of its corners' gradients; divided by the lumped node area (a third
+// of the adjacent triangles' areas) when lumped_load, which gives the traction q.
+void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
+                  bool lumped_load, Vec3* out);
+// Per triangle: its corners and loads, its bounds, and its 3-point rule as point sources
+// (y[3 e + g], f[3 e + g] = w_g A q(y_g)).
+void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,
+                      TriangleLoad* loads, TriangleBounds* bounds, Vec3* y, Vec3* f);
+// u <- -u / (8 pi) + (shear_rate x.y, 0, 0): the single-layer factor and the shear flow.
+void finish_velocity(int n, const Vec3* x, double shear_rate, Vec3* u);
+// out <- x + a u
+void advance(int n, const Vec3* x, double a, const Vec3* u, Vec3* out);
+// x <- x + h (u0 + u1)
+void heun_combine(int n, double h, const Vec3* u0, const Vec3* u1, Vec3* x);
+
+// --- single_layer_kernels.cu -----------------------------------------------------------
+// u[i] = sum_g J(x_i - y_g) f_g over all m point sources (free space).
+void free_far_sum(int n, const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u);
+// u[i] += the free-space near corrections of every triangle near x_i.
+void free_near_corrections(const MeshView& mesh, const Vec3* x, const TriangleLoad* loads,
+                           const TriangleBounds* bounds, NearRule rule, Vec3* u);
+// u[i] = sum_g J^EI(x_i - y_g) f_g over the sources whose nearest image is within r_cut;
+// needs r_cut < L/3, where that image is the only one (device_flow.cpp checks).
+void screened_far_sum(const ShearedLattice& g, double xi, double r_cut, int n,
+                      const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u);
+// u[i] += the near corrections of the nearest image of every triangle (free-space rule:
+// see periodic_single_layer.hpp).
+void periodic_near_corrections(const ShearedLattice& g, const MeshView& mesh,
+                               const Vec3* x, const TriangleLoad* loads, NearRule rule,
+                               Vec3* u);
+
+// --- spectral_kernels.cu ---------------------------------------------------------------
+// grid[a * m^3 + j] += sum_k g(z_j - y_k) f_k.a (grid zeroed by the caller; atomics).
+void spread(const SpreadGrid& s, const ShearedLattice& g, int count, const Vec3* y,
+            const Vec3* f, double* grid);
+// Scales the r2c spectra of the three components (interleaved re, im; m^2 (m/2+1) modes
+// per component) by the multiplier times c.
+void scale_spectrum(const ShearedLattice& g, int m, double xi, double eta, double c,
+                    double* spectrum);
+// u[i] += cell sum_j g(x_i - z_j) grid(z_j)
+void gather(const SpreadGrid& s, const ShearedLattice& g, int n, const Vec3* x,
+            const double* grid, double cell, Vec3* u);
+
+} // namespace capsim::cuda

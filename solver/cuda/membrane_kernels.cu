@@ -1,0 +1,128 @@
+// Membrane forces, traction, triangle sources and the Runge-Kutta update on the device:
+// launch code around membrane/neo_hookean.hpp and stokes/element_integrals.hpp.
+#include "cuda/device_kernels.hpp"
+#include "cuda/launch.cuh"
+#include "mesh/surface_geometry.hpp"
+
+namespace capsim::cuda {
+namespace {
+
+__global__ void element_forces_kernel(MeshView mesh, double gs, const Vec3* x,
+                                      Vec3* corner_grad, double* area) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (e >= mesh.num_triangles())
+    return;
+  const int local = e % mesh.tri_per_capsule;
+  const int base = (e / mesh.tri_per_capsule) * mesh.nodes_per_capsule;
+  const int* t = mesh.triangles + 3 * local;
+  const Vec3 x0 = x[base + t[0]], x1 = x[base + t[1]], x2 = x[base + t[2]];
+  Vec3 g[3];
+  neo_hookean_element(mesh.refs[local], gs, x0, x1, x2, g);
+  for (int k = 0; k < 3; ++k)
+    corner_grad[3 * e + k] = g[k];
+  area[e] = 0.5 * norm(area_vector2(x0, x1, x2));
+}
+
+// A gather over each node's corners instead of atomics: the sum runs in a fixed order,
+// so results are reproducible and match the CPU assembly to rounding.
+__global__ void gather_nodes_kernel(MeshView mesh, const Vec3* corner_grad,
+                                    const double* area, bool lumped_load, Vec3* out) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= mesh.num_nodes())
+    return;
+  const int a = i % mesh.nodes_per_capsule;
+  const int tri_base = (i / mesh.nodes_per_capsule) * mesh.tri_per_capsule;
+  Vec3 g;
+  double node_area = 0;
+  for (int j = mesh.node_corner_offset[a]; j < mesh.node_corner_offset[a + 1]; ++j) {
+    const int e = tri_base + mesh.node_corner[j] / 3, k = mesh.node_corner[j] % 3;
+    g += corner_grad[3 * e + k];
+    node_area += area[e] / 3.0;
+  }
+  out[i] = lumped_load ? (1.0 / node_area) * g : g;
+}
+
+__global__ void triangle_sources_kernel(MeshView mesh, const Vec3* x, const Vec3* q,
+                                        TriangleLoad* loads, TriangleBounds* bounds,
+                                        Vec3* y, Vec3* f) {
+  const int e = blockIdx.x * blockDim.x + threadIdx.x;
+  if (e >= mesh.num_triangles())
+    return;
+  const int local = e % mesh.tri_per_capsule;
+  const int base = (e / mesh.tri_per_capsule) * mesh.nodes_per_capsule;
+  TriangleLoad t;
+  for (int k = 0; k < 3; ++k) {
+    t.p[k] = x[base + mesh.triangles[3 * local + k]];
+    t.q[k] = q[base + mesh.triangles[3 * local + k]];
+  }
+  loads[e] = t;
+  bounds[e] = {triangle_centroid(t.p), triangle_diameter(t.p)};
+  const TriangleRule rule = triangle_rule_3();
+  const double a = 0.5 * norm(area_vector2(t.p[0], t.p[1], t.p[2]));
+  for (int g = 0; g < rule.n; ++g) {
+    y[3 * e + g] = barycentric(t.p, rule.l1[g], rule.l2[g]);
+    f[3 * e + g] = (rule.w[g] * a) * barycentric(t.q, rule.l1[g], rule.l2[g]);
+  }
+}
+
+__global__ void finish_velocity_kernel(int n, const Vec3* x, double shear_rate, Vec3* u) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n)
+    return;
+  Vec3 v = (-1.0 / (8.0 * kPi)) * u[i];
+  v.x += shear_rate * x[i].y;
+  u[i] = v;
+}
+
+__global__ void advance_kernel(int n, const Vec3* x, double a, const Vec3* u, Vec3* out) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n)
+    out[i] = x[i] + a * u[i];
+}
+
+__global__ void heun_combine_kernel(int n, double h, const Vec3* u0, const Vec3* u1,
+                                    Vec3* x) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n)
+    x[i] += h * (u0[i] + u1[i]);
+}
+
+} // namespace
+
+void element_forces(const MeshView& mesh, double gs, const Vec3* x, Vec3* corner_grad,
+                    double* area) {
+  element_forces_kernel<<<blocks_for(mesh.num_triangles()), kBlock>>>(mesh, gs, x,
+                                                                      corner_grad, area);
+  check_launch("element_forces");
+}
+
+void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
+                  bool lumped_load, Vec3* out) {
+  gather_nodes_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(mesh, corner_grad, area,
+                                                                lumped_load, out);
+  check_launch("gather_nodes");
+}
+
+void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,
+                      TriangleLoad* loads, TriangleBounds* bounds, Vec3* y, Vec3* f) {
+  triangle_sources_kernel<<<blocks_for(mesh.num_triangles()), kBlock>>>(mesh, x, q, loads,
+                                                                        bounds, y, f);
+  check_launch("triangle_sources");
+}
+
+void finish_velocity(int n, const Vec3* x, double shear_rate, Vec3* u) {
+  finish_velocity_kernel<<<blocks_for(n), kBlock>>>(n, x, shear_rate, u);
+  check_launch("finish_velocity");
+}
+
+void advance(int n, const Vec3* x, double a, const Vec3* u, Vec3* out) {
+  advance_kernel<<<blocks_for(n), kBlock>>>(n, x, a, u, out);
+  check_launch("advance");
+}
+
+void heun_combine(int n, double h, const Vec3* u0, const Vec3* u1, Vec3* x) {
+  heun_combine_kernel<<<blocks_for(n), kBlock>>>(n, h, u0, u1, x);
+  check_launch("heun_combine");
+}
+
+} // namespace capsim::cuda

@@ -1,0 +1,64 @@
+#pragma once
+// The near-field corrections of the single-layer sums, host-device so that the CPU sums
+// and the CUDA kernels apply the same quadrature. A far sum counts every triangle by its
+// 3-point rule; for a triangle near the target that is replaced by an accurate integral
+// (the polar rule when the target is one of its vertices, adaptive subdivision
+// otherwise), so the correction is the accurate integral minus the 3-point rule.
+#include "stokes/element_integrals.hpp"
+#include "stokes/sheared_lattice.hpp"
+
+namespace capsim {
+
+// The accurate rules, as plain values and pointers that device code can take.
+struct NearRule {
+  double far_ratio = 2.0;       // triangles closer than this many diameters are near
+  double near_ratio = 1.5;      // subdivide until pieces are this many diameters away
+  int max_depth = 6;            // deepest subdivision
+  const double* gl_x = nullptr; // Gauss-Legendre nodes of the polar rule on [0, 1]
+  const double* gl_w = nullptr; // and its weights
+  int gl_n = 0;
+};
+
+// int_T J(x - y) q dA: the polar rule when x is vertex `vertex` (0-2) of t, adaptive
+// subdivision when vertex < 0.
+CAPSIM_HD Vec3 integrate_accurate(Vec3 x, int vertex, const TriangleLoad& t,
+                                  const NearRule& r) {
+  if (vertex >= 0)
+    return integrate_singular_vertex(vertex, t, r.gl_x, r.gl_w, r.gl_n);
+  return integrate_adaptive(x, t, r.near_ratio, r.max_depth);
+}
+
+// Free space: the correction for a near triangle (the caller decides that it is near).
+CAPSIM_HD Vec3 free_near_correction(Vec3 x, int vertex, const TriangleLoad& t,
+                                    const NearRule& r) {
+  return integrate_accurate(x, vertex, t, r) - integrate_regular(x, t, triangle_rule_3());
+}
+
+// Sheared periodic box: the correction for the image of `load` moved by the lattice
+// vector `shift`, near x. The real-space and reciprocal Ewald sums together apply the
+// 3-point rule to the whole periodic kernel J^E, so the free-space correction is the
+// right one for every xi (periodic_single_layer.hpp); the polar rule is used only for the
+// triangle's own image (shift exactly 0), at x's vertex `own_vertex` (-1: none).
+CAPSIM_HD Vec3 image_near_correction(Vec3 x, int own_vertex, TriangleLoad load,
+                                     Vec3 shift, const NearRule& r) {
+  const bool own = dot(shift, shift) == 0;
+  for (auto& v : load.p)
+    v += shift;
+  return free_near_correction(x, own ? own_vertex : -1, load, r);
+}
+
+// The same for the image of `load` nearest to x, zero unless that image is near.
+CAPSIM_HD Vec3 nearest_image_near_correction(const ShearedLattice& g, Vec3 x,
+                                             int own_vertex, const TriangleLoad& load,
+                                             const NearRule& r) {
+  const Vec3 c = triangle_centroid(load.p);
+  const Vec3 d = wrap_to_cell(g, x - c);
+  if (norm(d) >= r.far_ratio * triangle_diameter(load.p))
+    return {};
+  Vec3 shift = (x - d) - c; // the lattice vector to the nearest image
+  if (norm(shift) < 1e-9 * g.L)
+    shift = Vec3{};
+  return image_near_correction(x, own_vertex, load, shift, r);
+}
+
+} // namespace capsim

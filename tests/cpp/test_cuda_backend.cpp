@@ -1,0 +1,102 @@
+// The CUDA backend as far as a machine without a GPU can check it: the host-device near
+// corrections its kernels run, the clear refusal of backend: cuda, and the self-test's
+// CPU-against-CPU path.
+#include "config/run_options.hpp"
+#include "cuda/device_query.hpp"
+#include "run/backend_selftest.hpp"
+#include "stokes/near_corrections.hpp"
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace capsim;
+
+namespace {
+
+// int_T J(x - y) q dA by brute force: 4^depth sub-triangles, 7 points each.
+Vec3 fine_integral(Vec3 x, const TriangleLoad& t, int depth) {
+  if (depth == 0)
+    return integrate_regular(x, t, triangle_rule_7());
+  Vec3 mp[3] = {0.5 * (t.p[0] + t.p[1]), 0.5 * (t.p[1] + t.p[2]),
+                0.5 * (t.p[2] + t.p[0])};
+  Vec3 mq[3] = {0.5 * (t.q[0] + t.q[1]), 0.5 * (t.q[1] + t.q[2]),
+                0.5 * (t.q[2] + t.q[0])};
+  const TriangleLoad kids[4] = {{{t.p[0], mp[0], mp[2]}, {t.q[0], mq[0], mq[2]}},
+                                {{mp[0], t.p[1], mp[1]}, {mq[0], t.q[1], mq[1]}},
+                                {{mp[2], mp[1], t.p[2]}, {mq[2], mq[1], t.q[2]}},
+                                {{mp[0], mp[1], mp[2]}, {mq[0], mq[1], mq[2]}}};
+  Vec3 sum;
+  for (const auto& k : kids)
+    sum += fine_integral(x, k, depth - 1);
+  return sum;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+} // namespace
+
+TEST_CASE("near corrections: the nearest-image correction plus the 3-point rule is the "
+          "accurate integral of that image",
+          "[cuda][hd]") {
+  const TriangleLoad t{{{0, 0, 0}, {0.2, 0, 0}, {0.05, 0.18, 0.02}},
+                       {{1, 0.5, -0.2}, {0.3, -1, 0.4}, {-0.6, 0.2, 1}}};
+  const ShearedLattice g = make_sheared_lattice(3.0, 0.3);
+  NearRule rule; // finer than the default, to test the formula rather than the rule
+  rule.near_ratio = 4;
+  rule.max_depth = 10;
+  // A near-singular target beside the triangle, seen directly and through a lattice
+  // image.
+  const Vec3 x{0.08, 0.06, 0.05};
+  const Vec3 want = fine_integral(x, t, 6);
+  for (Vec3 shift : {Vec3{}, lattice_point(g, 1, -1, 2)}) {
+    const Vec3 got = nearest_image_near_correction(g, x + shift, -1, t, rule) +
+                     integrate_regular(x, t, triangle_rule_3());
+    CHECK(norm(got - want) < 1e-6 * norm(want));
+  }
+  // A far image gets no correction.
+  CHECK(norm(nearest_image_near_correction(g, x + Vec3{1.2, 0, 0}, -1, t, rule)) == 0);
+}
+
+TEST_CASE(
+    "cuda backend: refused with a one-line error naming the key where it cannot run",
+    "[cuda]") {
+  const std::string reason = cuda_unavailable_reason();
+  if (!reason.empty()) {
+    CHECK_THROWS_WITH(parse_run_options("backend: cuda\n", {}),
+                      Catch::StartsWith("backend: cuda is not available here"));
+    std::ostringstream out;
+    CHECK_THROWS_AS(run_backend_selftest(Backend::cuda, out), ConfigError);
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / "capsim_test_cuda_refused";
+    fs::remove_all(dir);
+    const std::string err = (dir.string() + ".err");
+    const std::string cmd = std::string(CAPSIM_BINARY) + " run --set backend=cuda -o " +
+                            dir.string() + " 2>" + err;
+    const int status = std::system(cmd.c_str());
+    CHECK(WEXITSTATUS(status) == 2);
+    const std::string text = read_file(err);
+    CHECK_THAT(text, Catch::StartsWith("capsim: error: backend: cuda"));
+    CHECK(std::count(text.begin(), text.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(dir)); // nothing was written
+    fs::remove(err);
+  } else {
+    CHECK(parse_run_options("backend: cuda\n", {}).backend == "cuda");
+  }
+  CHECK(parse_run_options("backend: cpu\n", {}).backend == "cpu");
+}
+
+TEST_CASE("selftest: the cpu backend agrees with itself", "[cuda]") {
+  std::ostringstream out;
+  CHECK(run_backend_selftest(Backend::cpu, out));
+  INFO(out.str());
+  CHECK_THAT(out.str(), Catch::Contains("periodic (spectral), 2 capsules: velocity") &&
+                            Catch::Contains("capsim selftest: passed"));
+}
