@@ -57,8 +57,11 @@ template <int I, int N> CAPSIM_HD double horner(const double* a, double z, doubl
 //   erfcx(x) = 2 p(Z)/(K + x)^2 + 1/(sqrt(pi) (K + x)),  Z = (K - x)/(K + x),
 // p of degree 31, K = sqrt(N/sqrt 2) with N = 32. The coefficients are Weideman's FFT
 // recipe evaluated once in double precision; relative error < 4e-14 on [0, 6].
-CAPSIM_HD double erfcx_nonnegative(double x) {
-  constexpr double K = 4.756828460010884;
+constexpr double kErfcxK = 4.756828460010884;
+
+// erfcx(x) given inv = 1/(K + x): callers that also need another reciprocal can share one
+// division between the two (the divider, not the FMAs, limits vectorised kernels).
+CAPSIM_HD double erfcx_nonnegative(double x, double inv) {
   constexpr double a[32] = {
       -1.3031797863050087e-12, 3.7408812931653625e-12,  8.0303678999638894e-12,
       -2.1543632077838769e-11, -5.5442359481664624e-11, 1.1658251093523774e-10,
@@ -71,9 +74,13 @@ CAPSIM_HD double erfcx_nonnegative(double x) {
       0.14060716226893769,     0.29544451071508732,     0.54601397206393409,
       0.90192548936479988,     1.3455441692345449,      1.8256696296324815,
       2.2635372999002676,      2.5722534081245696};
-  const double inv = 1.0 / (K + x), z = (K - x) * inv;
+  const double z = (kErfcxK - x) * inv;
   const double p = horner<1, 32>(a, z, a[0]);
   return (2.0 * p * inv + 0.56418958354775628) * inv; // 0.5641... = 1/sqrt(pi)
+}
+
+CAPSIM_HD double erfcx_nonnegative(double x) {
+  return erfcx_nonnegative(x, 1.0 / (kErfcxK + x));
 }
 
 } // namespace capsim

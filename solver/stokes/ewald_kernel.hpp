@@ -16,10 +16,13 @@ constexpr double kSqrtPi = 1.77245385090551602730;
 // loops over sources vectorise.
 CAPSIM_HD Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
   const double rr = std::sqrt(dot(r, r)), x = xi * rr, x3 = x * x * x;
-  const double g = exp_nonpositive(-x * x), c = erfcx_nonnegative(x);
-  const double e1 = g * (c + (4.0 * x3 - 6.0 * x) / kSqrtPi);
-  const double e2 = g * (c + (2.0 * x - 4.0 * x3) / kSqrtPi);
-  const double rinv = 1.0 / rr;
+  // One division for both reciprocals, 1/r and 1/(K + x).
+  const double inv_both = 1.0 / (rr * (kErfcxK + x));
+  const double rinv = (kErfcxK + x) * inv_both;
+  const double g = exp_nonpositive(-x * x), c = erfcx_nonnegative(x, rr * inv_both);
+  constexpr double inv_sqrt_pi = 0.56418958354775628; // a multiply, not a division
+  const double e1 = g * (c + (4.0 * x3 - 6.0 * x) * inv_sqrt_pi);
+  const double e2 = g * (c + (2.0 * x - 4.0 * x3) * inv_sqrt_pi);
   return (e1 * rinv) * f + (e2 * dot(r, f) * rinv * rinv * rinv) * r;
 }
 

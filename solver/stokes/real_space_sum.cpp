@@ -4,6 +4,21 @@
 #include "stokes/ewald_kernel.hpp"
 
 namespace capsim {
+
+CAPSIM_VECTOR_CLONES Vec3 screened_sum(size_t n, const double* rx, const double* ry,
+                                       const double* rz, const double* fx,
+                                       const double* fy, const double* fz, double xi) {
+  double ux = 0, uy = 0, uz = 0;
+#pragma omp simd reduction(+ : ux, uy, uz)
+  for (size_t j = 0; j < n; ++j) {
+    const Vec3 v = ewald_real_apply({rx[j], ry[j], rz[j]}, {fx[j], fy[j], fz[j]}, xi);
+    ux += v.x;
+    uy += v.y;
+    uz += v.z;
+  }
+  return {ux, uy, uz};
+}
+
 namespace {
 
 // Separations r = x - y and loads of the source images within r_cut of one target.
@@ -15,20 +30,6 @@ struct Neighbours {
       v->resize(m);
   }
 };
-
-CAPSIM_VECTOR_CLONES Vec3 screened_sum(const Neighbours& b, double xi) {
-  const double *rx = b.rx.data(), *ry = b.ry.data(), *rz = b.rz.data();
-  const double *fx = b.fx.data(), *fy = b.fy.data(), *fz = b.fz.data();
-  double ux = 0, uy = 0, uz = 0;
-#pragma omp simd reduction(+ : ux, uy, uz)
-  for (size_t j = 0; j < b.n; ++j) {
-    const Vec3 v = ewald_real_apply({rx[j], ry[j], rz[j]}, {fx[j], fy[j], fz[j]}, xi);
-    ux += v.x;
-    uy += v.y;
-    uz += v.z;
-  }
-  return {ux, uy, uz};
-}
 
 std::vector<Vec3> point_positions(const FarSources& s) {
   std::vector<Vec3> y(s.size());
@@ -86,7 +87,8 @@ long add_real_space_sum(const ShearedLattice& lattice, const FarSources& s,
         }
         b.n = m;
       });
-      u[i] += screened_sum(b, ewald.xi);
+      u[i] += screened_sum(b.n, b.rx.data(), b.ry.data(), b.rz.data(), b.fx.data(),
+                           b.fy.data(), b.fz.data(), ewald.xi);
       pairs += long(b.n);
     }
   }
