@@ -36,6 +36,7 @@ SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& e
                                               double tolerance) {
   SpectralParameters p;
   p.support = std::max(4, int(std::ceil(-2.0 * std::log(tolerance) / kPi)) + 1);
+  p.support += p.support % 2; // even: the stencil is centred on the point (odd P is not)
   // |k| < k_cut needs |m1|, |m3| <= k_cut L / 2 pi and |m2| <= 1.5 k_cut L / 2 pi
   // (shear).
   const int m_max = int(std::ceil(1.5 * ewald.k_cut * L / (2.0 * kPi)));

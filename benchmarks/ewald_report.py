@@ -1,0 +1,150 @@
+"""Speed-against-error report of the periodic single-layer evaluation (`capsim bench`).
+
+Studies (each writes results/benchmarks/<study>.json, a Markdown table and a PNG):
+  accuracy  error against requested tolerance, spectral and direct, strains 0 and 0.5
+  speed     seconds per evaluation against achieved error, spectral and direct
+  scaling   seconds per evaluation against the number of sources (spectral)
+Usage: .venv/bin/python benchmarks/ewald_report.py STUDY [--capsules M] [--mesh-level N]
+The error reference is direct Ewald at tolerance 1e-10 on the same configuration; it is
+computed once per configuration and cached under results/benchmarks/.
+"""
+
+import argparse
+import json
+import pathlib
+import subprocess
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+OUT = ROOT / "results" / "benchmarks"
+CAPSIM = ROOT / "build" / "capsim"
+
+
+def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=True,
+          repeats=2):
+    """One `capsim bench` run; returns its JSON as a dict."""
+    cmd = [str(CAPSIM), "bench", "--capsules", str(capsules), "--mesh-level", str(level),
+           "--phi", str(phi), "--method", method, "--tolerance", str(tolerance),
+           "--strain", str(strain), "--repeats", str(repeats)]
+    if reference:
+        ref = OUT / f"reference_M{capsules}_L{level}_phi{phi}_s{strain}.bin"
+        cmd += ["--reference", str(ref)]
+    else:
+        cmd.append("--no-reference")
+    print(" ".join(cmd[1:]), flush=True)
+    return json.loads(subprocess.run(cmd, check=True, capture_output=True,
+                                     text=True).stdout)
+
+
+def save(study, rows, table):
+    OUT.mkdir(parents=True, exist_ok=True)
+    (OUT / f"{study}.json").write_text(json.dumps(rows, indent=2) + "\n")
+    (OUT / f"{study}.md").write_text(table)
+    print(table)
+
+
+def accuracy(capsules, level):
+    tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
+    rows = [bench(capsules, level, method, tol, strain, repeats=1)
+            for strain in (0.0, 0.5) for method in ("spectral", "direct")
+            for tol in tolerances]
+    lines = ["| method | strain | tolerance | rel. error (RMS) | max rel. error | s/eval |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['method']} | {r['strain']} | {r['tolerance']:.0e} | "
+                     f"{r['rel_error']:.2e} | {r['max_rel_error']:.2e} | "
+                     f"{r['seconds_per_eval']:.3f} |")
+    save("accuracy", rows, "\n".join(lines) + "\n")
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for method, marker in (("spectral", "o"), ("direct", "s")):
+        for strain, fill in ((0.0, "full"), (0.5, "none")):
+            sel = [r for r in rows if r["method"] == method and r["strain"] == strain]
+            ax.loglog([r["tolerance"] for r in sel], [r["rel_error"] for r in sel],
+                      marker=marker, fillstyle=fill, label=f"{method}, strain {strain}")
+    ax.loglog(tolerances, tolerances, "k--", label="error = tolerance")
+    ax.set_xlabel("requested tolerance")
+    ax.set_ylabel("relative error (RMS over nodes)")
+    ax.set_title(f"M = {capsules}, level {level}, phi 0.3")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(OUT / "accuracy.png", dpi=150)
+
+
+def speed(capsules, level):
+    rows = [bench(capsules, level, "spectral", tol) for tol in
+            (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)]
+    rows += [bench(capsules, level, "direct", tol, repeats=1) for tol in
+             (1e-2, 1e-4, 1e-6)]
+    lines = ["| method | tolerance | rel. error | s/eval | real space | near | "
+             "spreading | FFT | gathering | grid | r_cut |", "|" + "---|" * 11]
+    for r in rows:
+        s = r["seconds"]
+        lines.append(
+            f"| {r['method']} | {r['tolerance']:.0e} | {r['rel_error']:.2e} | "
+            f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | {s['near']:.3f} | "
+            f"{s.get('spreading', 0):.3f} | {s.get('fft', 0):.3f} | "
+            f"{s.get('gathering', 0):.3f} | {r.get('grid', '-')} | {r['r_cut']:.2f} |")
+    save("speed", rows, "\n".join(lines) + "\n")
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for method, marker in (("spectral", "o"), ("direct", "s")):
+        sel = [r for r in rows if r["method"] == method]
+        ax.loglog([r["rel_error"] for r in sel], [r["seconds_per_eval"] for r in sel],
+                  marker=marker, label=method)
+    ax.set_xlabel("achieved relative error")
+    ax.set_ylabel("seconds per evaluation (2 cores)")
+    ax.set_title(f"M = {capsules}, level {level}, phi 0.3")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(OUT / "speed.png", dpi=150)
+
+
+def scaling(level, tolerance=1e-4):
+    per_capsule = 3 * 20 * 4**level
+    counts = [c for c in (3, 9, 27, 81, 260) if c * per_capsule <= 1.1e6]
+    rows = [bench(m, level, "spectral", tolerance, reference=False, repeats=1)
+            for m in counts]
+    sources = np.array([r["sources"] for r in rows], float)
+    seconds = np.array([r["seconds_per_eval"] for r in rows])
+    slope = np.polyfit(np.log(sources), np.log(seconds), 1)[0]
+    lines = [f"Fitted slope d log(seconds) / d log(sources) = {slope:.3f}", "",
+             "| capsules | sources | nodes | s/eval | real space | near | spreading | "
+             "FFT | gathering | grid |", "|" + "---|" * 10]
+    for r in rows:
+        s = r["seconds"]
+        lines.append(f"| {r['capsules']} | {r['sources']} | {r['nodes']} | "
+                     f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | "
+                     f"{s['near']:.3f} | {s['spreading']:.3f} | {s['fft']:.3f} | "
+                     f"{s['gathering']:.3f} | {r['grid']} |")
+    save("scaling", {"slope": slope, "runs": rows}, "\n".join(lines) + "\n")
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.loglog(sources, seconds, "o-", label=f"spectral, tol {tolerance:g}")
+    ax.loglog(sources, seconds[0] * sources / sources[0], "k--", label="O(N)")
+    ax.set_xlabel("sources (3 per triangle)")
+    ax.set_ylabel("seconds per evaluation (2 cores)")
+    ax.set_title(f"level {level}, phi 0.3, slope {slope:.2f}")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(OUT / "scaling.png", dpi=150)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("study", choices=["accuracy", "speed", "scaling"])
+    p.add_argument("--capsules", type=int, default=27)
+    p.add_argument("--mesh-level", type=int, default=3)
+    a = p.parse_args()
+    if a.study == "accuracy":
+        accuracy(a.capsules, a.mesh_level)
+    elif a.study == "speed":
+        speed(a.capsules, a.mesh_level)
+    else:
+        scaling(a.mesh_level)
+
+
+if __name__ == "__main__":
+    main()
