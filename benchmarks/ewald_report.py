@@ -1,6 +1,6 @@
 """Speed-against-error report of the periodic single-layer evaluation (`capsim bench`).
 
-Studies (each writes results/benchmarks/<study>.json, a Markdown table and a PNG):
+Studies (each writes results/benchmarks/<study>_<case>.json, .md (table) and .png):
   accuracy  error against requested tolerance, spectral and direct, strains 0 and 0.5
   speed     seconds per evaluation against achieved error, spectral and direct
   scaling   seconds per evaluation against the number of sources (spectral)
@@ -41,10 +41,10 @@ def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=Tru
                                      text=True).stdout)
 
 
-def save(study, rows, table):
+def save(name, rows, table):
     OUT.mkdir(parents=True, exist_ok=True)
-    (OUT / f"{study}.json").write_text(json.dumps(rows, indent=2) + "\n")
-    (OUT / f"{study}.md").write_text(table)
+    (OUT / f"{name}.json").write_text(json.dumps(rows, indent=2) + "\n")
+    (OUT / f"{name}.md").write_text(table)
     print(table)
 
 
@@ -59,7 +59,8 @@ def accuracy(capsules, level):
         lines.append(f"| {r['method']} | {r['strain']} | {r['tolerance']:.0e} | "
                      f"{r['rel_error']:.2e} | {r['max_rel_error']:.2e} | "
                      f"{r['seconds_per_eval']:.3f} |")
-    save("accuracy", rows, "\n".join(lines) + "\n")
+    name = f"accuracy_M{capsules}_L{level}"
+    save(name, rows, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
     for method, marker in (("spectral", "o"), ("direct", "s")):
         for strain, fill in ((0.0, "full"), (0.5, "none")):
@@ -72,7 +73,7 @@ def accuracy(capsules, level):
     ax.set_title(f"M = {capsules}, level {level}, phi 0.3")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(OUT / "accuracy.png", dpi=150)
+    fig.savefig(OUT / f"{name}.png", dpi=150)
 
 
 def speed(capsules, level):
@@ -89,7 +90,8 @@ def speed(capsules, level):
             f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | {s['near']:.3f} | "
             f"{s.get('spreading', 0):.3f} | {s.get('fft', 0):.3f} | "
             f"{s.get('gathering', 0):.3f} | {r.get('grid', '-')} | {r['r_cut']:.2f} |")
-    save("speed", rows, "\n".join(lines) + "\n")
+    name = f"speed_M{capsules}_L{level}"
+    save(name, rows, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
     for method, marker in (("spectral", "o"), ("direct", "s")):
         sel = [r for r in rows if r["method"] == method]
@@ -100,7 +102,7 @@ def speed(capsules, level):
     ax.set_title(f"M = {capsules}, level {level}, phi 0.3")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(OUT / "speed.png", dpi=150)
+    fig.savefig(OUT / f"{name}.png", dpi=150)
 
 
 def scaling(level, tolerance=1e-4):
@@ -120,7 +122,8 @@ def scaling(level, tolerance=1e-4):
                      f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | "
                      f"{s['near']:.3f} | {s['spreading']:.3f} | {s['fft']:.3f} | "
                      f"{s['gathering']:.3f} | {r['grid']} |")
-    save("scaling", {"slope": slope, "runs": rows}, "\n".join(lines) + "\n")
+    name = f"scaling_L{level}"
+    save(name, {"slope": slope, "runs": rows}, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.loglog(sources, seconds, "o-", label=f"spectral, tol {tolerance:g}")
     ax.loglog(sources, seconds[0] * sources / sources[0], "k--", label="O(N)")
@@ -129,7 +132,7 @@ def scaling(level, tolerance=1e-4):
     ax.set_title(f"level {level}, phi 0.3, slope {slope:.2f}")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(OUT / "scaling.png", dpi=150)
+    fig.savefig(OUT / f"{name}.png", dpi=150)
 
 
 def main():

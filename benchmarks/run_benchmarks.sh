@@ -1,12 +1,28 @@
 #!/usr/bin/env bash
-# Speed benchmarks (never part of the tests). Writes JSON to results/benchmarks/.
-#   bench_single_capsule: seconds per RK2 step for one capsule at mesh levels 2-4, split
-#   into membrane forces, quadrature set-up, the dense far sum and near corrections.
-# Usage: bash benchmarks/run_benchmarks.sh [REPEATS]   (after scripts/setup.sh)
+# Speed benchmarks (never part of the tests). Writes JSON, Markdown tables and plots to
+# results/benchmarks/. Run on an otherwise idle machine, after scripts/setup.sh.
+#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|scaling|all]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 mkdir -p results/benchmarks
-out=results/benchmarks/single_capsule.json
-build/bench_single_capsule "${1:-5}" > "$out"
-echo "benchmarks: wrote $out"
-cat "$out"
+py=.venv/bin/python
+what=${1:-all}
+run() { [ "$what" = all ] || [ "$what" = "$1" ]; }
+if run single; then # one capsule: seconds per RK2 step at levels 2-4, with its stages
+  build/bench_single_capsule 5 > results/benchmarks/single_capsule.json
+fi
+if run peak; then # FMA peak and the real-space kernel's achieved rate
+  build/peak_flops > results/benchmarks/peak_flops.json
+  build/bench_screened_kernel > results/benchmarks/screened_kernel.json
+fi
+if run ewald-accuracy; then # error against tolerance, strains 0 and 0.5
+  $py benchmarks/ewald_report.py accuracy --capsules 27 --mesh-level 2
+fi
+if run ewald-speed; then # seconds per evaluation against error
+  $py benchmarks/ewald_report.py speed --capsules 27 --mesh-level 3
+  $py benchmarks/ewald_report.py speed --capsules 100 --mesh-level 3
+fi
+if run scaling; then # 1e4 to 1e6 sources
+  $py benchmarks/ewald_report.py scaling --mesh-level 3
+fi
+echo "benchmarks: results in results/benchmarks/"

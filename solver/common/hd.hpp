@@ -6,3 +6,13 @@
 #else
 #define CAPSIM_HD inline
 #endif
+
+// CAPSIM_HD_INLINE: the same, always inlined. For the pointwise functions called inside
+// vectorised loops, which stay scalar if the compiler declines to inline a call.
+#if defined(__CUDACC__)
+#define CAPSIM_HD_INLINE __host__ __device__ __forceinline__
+#elif defined(__GNUC__)
+#define CAPSIM_HD_INLINE inline __attribute__((always_inline))
+#else
+#define CAPSIM_HD_INLINE inline
+#endif

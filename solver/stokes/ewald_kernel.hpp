@@ -14,7 +14,7 @@ constexpr double kSqrtPi = 1.77245385090551602730;
 // Real-space screened Stokeslet applied to f (eqs. 2.4, 2.6, 2.7), with erfc(x) written
 // as exp(-x^2) erfcx(x) through the branch-free functions of fast_special.hpp, so that
 // loops over sources vectorise.
-CAPSIM_HD Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
+CAPSIM_HD_INLINE Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
   const double rr = std::sqrt(dot(r, r)), x = xi * rr, x3 = x * x * x;
   // One division for both reciprocals, 1/r and 1/(K + x).
   const double inv_both = 1.0 / (rr * (kErfcxK + x));
