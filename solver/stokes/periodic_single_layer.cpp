@@ -1,6 +1,5 @@
 #include "stokes/periodic_single_layer.hpp"
 
-#include "stokes/ewald_kernel.hpp"
 #include "stokes/ewald_reciprocal.hpp"
 #include "stokes/near_corrections.hpp"
 #include "stokes/periodic_cells.hpp"

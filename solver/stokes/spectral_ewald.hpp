@@ -6,12 +6,12 @@
 // transform is exp(-eta k^2/(8 xi^2)):
 //   1. spread H(z_j) = sum_g f_g g(z_j - y_g) to a uniform M^3 grid in fractional
 //      coordinates (z_j = A j / M, A the lattice vectors), P grid points of support;
-//   2. FFT; multiply by (8 pi / V) J^EII(k) exp(-(1 - eta) k^2/(4 xi^2)) /
-//   exp(-k^2/4xi^2)
-//      (i.e. the Stokes k-space kernel with the remaining Gaussian); inverse FFT;
+//   2. FFT; multiply by the Stokes k-space kernel (8 pi / V) J^EII(k) with the remaining
+//      Gaussian exp(-(1 - eta) k^2/(4 xi^2)) in place of exp(-k^2/(4 xi^2)); inverse FFT;
 //   3. gather u(x) = (V / M^3) sum_j g(x - z_j) w_j.
-// Cost O(N P^3 + M^3 log M) instead of O(N K). Host code; the Gaussian weights are the
-// host-device part a GPU backend would share.
+// Cost O(N P^3 + M^3 log M) instead of O(N K). The stencil weights and the mode scaling
+// are the host-device functions of spectral_weights.hpp, shared with the CUDA backend;
+// this class is the CPU orchestration (parallel spreading, FFTW, gathering).
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/triangle_sources.hpp"
 
@@ -33,8 +33,8 @@ SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& e
                                               double tolerance);
 
 // xi for Spectral Ewald: the real-space sums cost ~ nodes x (points within r_cut), the
-// grid ~ M^3 log M with M ~ xi L (spreading and gathering do not depend on xi), so xi is
-// raised until the two balance; see docs/method.md for the measured trade-off.
+// grid ~ M^3 log M with M ~ xi L (spreading and gathering do not depend on xi); returns
+// the xi of least modelled cost (docs/method.md, docs/performance.md).
 double spectral_xi(double L, double tolerance, long nodes, long points);
 
 struct SpectralTimings {
