@@ -39,15 +39,18 @@ std::vector<std::int32_t> all_triangles(const std::vector<std::array<int, 3>>& t
   return out;
 }
 
-void write_snapshot_file(const std::string& path, double time,
-                         const std::vector<Vec3>& positions,
+void write_snapshot_file(const std::string& path, const SnapshotFrame& frame,
+                         int num_capsules, const std::vector<Vec3>& positions,
                          const std::vector<std::int32_t>& triangles) {
   h5::Handle file = h5::create_file(path);
   std::vector<double> xyz;
   xyz.reserve(3 * positions.size());
   for (const Vec3& p : positions)
     xyz.insert(xyz.end(), {p.x, p.y, p.z});
-  h5::write_scalar<double>(file.get(), "/time", time);
+  h5::write_scalar<double>(file.get(), "/time", frame.time);
+  h5::write_scalar<double>(file.get(), "/box_side", frame.box_side);
+  h5::write_scalar<double>(file.get(), "/strain", frame.strain);
+  h5::write_scalar<int>(file.get(), "/num_capsules", num_capsules);
   h5::write_dataset(file.get(), "/nodes", {positions.size(), 3}, xyz.data());
   h5::write_dataset(file.get(), "/triangles", {triangles.size() / 3, 3},
                     triangles.data());
@@ -93,7 +96,7 @@ std::string xdmf_text(const std::vector<SnapshotIndexEntry>& entries) {
 
 } // namespace
 
-void write_snapshot(const std::string& run_dir, long index, double time,
+void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame& frame,
                     const std::vector<std::array<int, 3>>& triangles, int num_capsules,
                     const std::vector<Vec3>& positions,
                     std::vector<SnapshotIndexEntry>& entries) {
@@ -107,7 +110,7 @@ void write_snapshot(const std::string& run_dir, long index, double time,
     const int nodes_per_capsule = static_cast<int>(positions.size() / num_capsules);
     const auto all = all_triangles(triangles, num_capsules, nodes_per_capsule);
     fs::create_directories(fs::path(path).parent_path());
-    write_snapshot_file(path, time, positions, all);
+    write_snapshot_file(path, frame, num_capsules, positions, all);
   } catch (const std::exception& e) { // also filesystem_error from create_directories
     throw std::runtime_error("cannot write snapshot " + path + ": " + e.what());
   }
@@ -116,7 +119,8 @@ void write_snapshot(const std::string& run_dir, long index, double time,
   if (entries.size() > static_cast<std::size_t>(index))
     entries.resize(index);
   const long num_triangles = static_cast<long>(triangles.size()) * num_capsules;
-  entries.push_back({name, time, static_cast<long>(positions.size()), num_triangles});
+  entries.push_back(
+      {name, frame.time, static_cast<long>(positions.size()), num_triangles});
   write_text_atomically((fs::path(run_dir) / "snapshots.xdmf").string(),
                         xdmf_text(entries));
 }

@@ -1,8 +1,10 @@
 #pragma once
 // Mesh snapshots that ParaView opens: snapshots/snapshot_NNNNNN.h5 holds /nodes (N, 3)
 // and /triangles (T, 3) int32 for all capsules together (capsule c's nodes start at
-// c * nodes_per_capsule), and snapshots.xdmf is a temporal collection over all of them,
-// rewritten (write-then-rename) after each new snapshot.
+// c * nodes_per_capsule), with the scalars /time, /num_capsules, /box_side (L; 0 in the
+// dilute limit) and /strain (the Lees-Edwards offset of the lattice), and snapshots.xdmf
+// is a temporal collection over all of them, rewritten (write-then-rename) after each new
+// snapshot.
 #include "common/vec3.hpp"
 
 #include <array>
@@ -20,7 +22,13 @@ struct SnapshotIndexEntry {
 
 // Writes snapshot number `index` into `run_dir` and rewrites run_dir/snapshots.xdmf to
 // list entries[0..index]. `entries` is the caller's list; the new entry is appended.
-void write_snapshot(const std::string& run_dir, long index, double time,
+struct SnapshotFrame {
+  double time = 0;
+  double box_side = 0; // L of the periodic box, 0 for unbounded flow
+  double strain = 0;   // lattice strain offset s in [-1/2, 1/2)
+};
+
+void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame& frame,
                     const std::vector<std::array<int, 3>>& triangles, int num_capsules,
                     const std::vector<Vec3>& positions,
                     std::vector<SnapshotIndexEntry>& entries);

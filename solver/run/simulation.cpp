@@ -236,7 +236,13 @@ void RunLoop::save_checkpoint() {
 }
 
 void RunLoop::save_snapshot() {
-  write_snapshot(dir_, long(snapshots_.size()), step_ * dt_, mesh_.topology.triangles,
+  SnapshotFrame frame;
+  frame.time = step_ * dt_;
+  if (flow_.periodic()) {
+    frame.box_side = box_.L;
+    frame.strain = flow_.lattice(frame.time).s;
+  }
+  write_snapshot(dir_, long(snapshots_.size()), frame, mesh_.topology.triangles,
                  o_.capsules, x_, snapshots_);
 }
 

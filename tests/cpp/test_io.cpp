@@ -223,8 +223,8 @@ TEST_CASE("io: xdmf snapshots and their index") {
   for (int i = 0; i < 8; ++i)
     positions.push_back({1.0 * i, 0, 0});
   std::vector<SnapshotIndexEntry> entries;
-  write_snapshot(run_dir, 0, 0.0, triangles, 2, positions, entries);
-  write_snapshot(run_dir, 1, 0.5, triangles, 2, positions, entries);
+  write_snapshot(run_dir, 0, {0.0, 7.5, 0.25}, triangles, 2, positions, entries);
+  write_snapshot(run_dir, 1, {0.5, 7.5, 0.3}, triangles, 2, positions, entries);
 
   REQUIRE(entries.size() == 2);
   REQUIRE(fs::exists(dir.path / "snapshots/snapshot_000000.h5"));
@@ -242,6 +242,9 @@ TEST_CASE("io: xdmf snapshots and their index") {
       h5::open_file(run_dir + "/snapshots/snapshot_000001.h5", H5F_ACC_RDONLY);
   const auto t = h5::read_dataset<std::int32_t>(file.get(), "/triangles", {4, 3});
   REQUIRE(t == std::vector<std::int32_t>{0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7});
+  CHECK(h5::read_scalar<double>(file.get(), "/box_side") == 7.5);
+  CHECK(h5::read_scalar<double>(file.get(), "/strain") == 0.3);
+  CHECK(h5::read_scalar<int>(file.get(), "/num_capsules") == 2);
 
   const auto listed = list_snapshots(run_dir, 1);
   REQUIRE(listed.size() == 1);
