@@ -25,7 +25,8 @@ def last_snapshot(run):
     if not files:
         raise SystemExit(f"fig02: {run} has no snapshots (set snapshot_interval > 0)")
     with h5py.File(files[-1], "r") as f:
-        return f["nodes"][()], f["triangles"][()], float(f["time"][()])
+        frame = {k: float(f[k][()]) for k in ("time", "box_side", "strain") if k in f}
+        return f["nodes"][()], f["triangles"][()], frame
 
 
 def strain_offset(t):
@@ -62,9 +63,10 @@ def draw(ax, run, mode):
     summary = read_summary(run)
     p = summary["parameters"]
     capsules, phi = int(p["capsules"]), float(p["phi"])
-    side = summary.get("box_side") or box_side(capsules, phi)
-    nodes, tris, t = last_snapshot(run)
-    s = strain_offset(t)
+    nodes, tris, frame = last_snapshot(run)
+    # The snapshot records the box and the lattice strain; older runs' files do not.
+    side = frame.get("box_side") or summary.get("box_side") or box_side(capsules, phi)
+    s = frame.get("strain", strain_offset(frame["time"]))
     caps = wrapped_capsules(nodes, capsules, side, s)
     per = tris[: len(tris) // capsules] % (len(nodes) // capsules)
     faces = np.concatenate([c[per] for c in caps])
@@ -81,7 +83,7 @@ def draw(ax, run, mode):
     ax.set_box_aspect((1, 1, 1 if mode == "all" else 1 / 3 if mode == "xy" else 1))
     ax.view_init(elev=25, azim=-60)
     ax.set_axis_off()
-    return {"ca": float(p["ca"]), "phi": phi, "capsules": capsules, "time": t,
+    return {"ca": float(p["ca"]), "phi": phi, "capsules": capsules, "time": frame["time"],
             "strain_offset": s, "box_side": side, "mesh_level": int(p["mesh_level"]),
             "run": str(run)}
 
