@@ -48,6 +48,15 @@ def save(name, rows, table):
     print(table)
 
 
+def finish_plot(fig, ax, name, xlabel, ylabel, title, legend_size=None):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=legend_size)
+    fig.tight_layout()
+    fig.savefig(OUT / f"{name}.png", dpi=150)
+
+
 def accuracy(capsules, level):
     tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
     rows = [bench(capsules, level, method, tol, strain, repeats=1)
@@ -68,12 +77,8 @@ def accuracy(capsules, level):
             ax.loglog([r["tolerance"] for r in sel], [r["rel_error"] for r in sel],
                       marker=marker, fillstyle=fill, label=f"{method}, strain {strain}")
     ax.loglog(tolerances, tolerances, "k--", label="error = tolerance")
-    ax.set_xlabel("requested tolerance")
-    ax.set_ylabel("relative error (RMS over nodes)")
-    ax.set_title(f"M = {capsules}, level {level}, phi 0.3")
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(OUT / f"{name}.png", dpi=150)
+    finish_plot(fig, ax, name, "requested tolerance", "relative error (RMS over nodes)",
+                f"M = {capsules}, level {level}, phi 0.3", legend_size=7)
 
 
 def speed(capsules, level):
@@ -97,12 +102,8 @@ def speed(capsules, level):
         sel = [r for r in rows if r["method"] == method]
         ax.loglog([r["rel_error"] for r in sel], [r["seconds_per_eval"] for r in sel],
                   marker=marker, label=method)
-    ax.set_xlabel("achieved relative error")
-    ax.set_ylabel("seconds per evaluation (2 cores)")
-    ax.set_title(f"M = {capsules}, level {level}, phi 0.3")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(OUT / f"{name}.png", dpi=150)
+    finish_plot(fig, ax, name, "achieved relative error",
+                "seconds per evaluation (2 cores)", f"M = {capsules}, level {level}, phi 0.3")
 
 
 def scaling(level, tolerance=1e-4):
@@ -127,12 +128,8 @@ def scaling(level, tolerance=1e-4):
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.loglog(sources, seconds, "o-", label=f"spectral, tol {tolerance:g}")
     ax.loglog(sources, seconds[0] * sources / sources[0], "k--", label="O(N)")
-    ax.set_xlabel("sources (3 per triangle)")
-    ax.set_ylabel("seconds per evaluation (2 cores)")
-    ax.set_title(f"level {level}, phi 0.3, slope {slope:.2f}")
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(OUT / f"{name}.png", dpi=150)
+    finish_plot(fig, ax, name, "sources (3 per triangle)",
+                "seconds per evaluation (2 cores)", f"level {level}, phi 0.3, slope {slope:.2f}")
 
 
 def main():
