@@ -177,3 +177,28 @@ TEST_CASE("cli: capsim greens prints the periodic Stokeslet and refuses lattice 
   CHECK(run({"greens", "--box", "4", "--point", "4", "0", "0"}) == 2);
   fs::remove(out);
 }
+
+TEST_CASE("cli: capsim bench prints its JSON with the error against the reference, and "
+          "refuses bad options",
+          "[cli]") {
+  fs::path out = fresh_dir("bench");
+  std::string cmd = std::string(CAPSIM_BINARY) +
+                    " bench --capsules 2 --mesh-level 1 --phi 0.2 --tolerance 1e-3 "
+                    "--repeats 1 --threads 1 > " +
+                    out.string();
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(out);
+  std::stringstream s;
+  s << in.rdbuf();
+  CHECK_THAT(s.str(), Catch::Contains("\"seconds_per_eval\"") &&
+                          Catch::Contains("\"rel_error\"") &&
+                          Catch::Contains("\"spreading\"") &&
+                          Catch::Contains("\"sources\": 480"));
+  // The error at tolerance 1e-3 is below it (against direct Ewald at 1e-10).
+  const std::string text = s.str();
+  const double error = std::stod(text.substr(text.find("\"rel_error\": ") + 13));
+  CHECK(error < 1e-3);
+  CHECK(run({"bench", "--phi", "0.9"}) == 2);
+  CHECK(run({"bench", "--method", "patches"}) == 2);
+  fs::remove(out);
+}
