@@ -39,13 +39,23 @@ template <int N> CAPSIM_HD_INLINE double polynomial4(const double* a, double z) 
 // reduction y = n ln 2 + r, |r| <= ln2/2, a degree-15 Taylor polynomial (truncation
 // 0.35^16/16! = 2e-21) and 2^n built in the exponent bits.
 CAPSIM_HD_INLINE double exp_nonpositive(double y) {
-  constexpr double taylor[16] = {
-      1.0 / 1307674368000.0, 1.0 / 87178291200.0, 1.0 / 6227020800.0,
-      1.0 / 479001600.0,     1.0 / 39916800.0,    1.0 / 3628800.0,
-      1.0 / 362880.0,        1.0 / 40320.0,       1.0 / 5040.0,
-      1.0 / 720.0,           1.0 / 120.0,         1.0 / 24.0,
-      1.0 / 6.0,             0.5,                 1.0,
-      1.0}; // 1/15!, 1/14!, ..., 1/1!, 1/0!
+  // 1/15!, 1/14!, ..., 1/1!, 1/0!
+  constexpr double taylor[16] = {1.0 / 1307674368000.0,
+                                 1.0 / 87178291200.0,
+                                 1.0 / 6227020800.0,
+                                 1.0 / 479001600.0,
+                                 1.0 / 39916800.0,
+                                 1.0 / 3628800.0,
+                                 1.0 / 362880.0,
+                                 1.0 / 40320.0,
+                                 1.0 / 5040.0,
+                                 1.0 / 720.0,
+                                 1.0 / 120.0,
+                                 1.0 / 24.0,
+                                 1.0 / 6.0,
+                                 0.5,
+                                 1.0,
+                                 1.0};
   y = y < -700.0 ? -700.0 : y;
   const double shifter = 6755399441055744.0; // 1.5 * 2^52: rounds to an integer
   const double t = y * 1.4426950408889634 + shifter;
