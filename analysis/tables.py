@@ -6,6 +6,7 @@ the stresslet decomposition (analysis.stresslet). Figures read only these tables
 """
 
 import csv
+import sys
 from pathlib import Path
 
 from analysis.averages import run_averages
@@ -18,7 +19,7 @@ COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "theta_D_deg
                          "theta_D_std_deg", "principal_diff", "theta_S_deg", "S_xx",
                          "S_xy", "S_yy", "S_zz", "mu_sp", "N1", "N2", "S12",
                          "S12_principal", "S11_S22", "S11_S22_principal", "sin2theta_S",
-                         "cos2theta_S", "intrinsic", "run"))
+                         "cos2theta_S", "intrinsic", "ended", "run"))
 
 
 def run_row(run_dir, t_start=None, t_end=None):
@@ -43,6 +44,9 @@ def run_row(run_dir, t_start=None, t_end=None):
     row.update(rheology(s, phi, ca))
     row.update(decomposition(s, avg["principal_diff"], avg["theta_S_deg"]))
     row["intrinsic"] = int(phi == 0)
+    # "t_end", or how a run stopped early ("contact", "numerical"); such a row averages
+    # up to its last good sample, and the figures name it in their footers.
+    row["ended"] = summary.get("ended", "t_end")
     row["run"] = str(run_dir)
     return row
 
@@ -98,8 +102,18 @@ def main(argv=None):
     ap.add_argument("--own-window", nargs="*", default=[],
                     help="runs averaged over their own t_avg_start (the dilute limit)")
     args = ap.parse_args(argv)
-    rows = [run_row(_run_dir(run), None) for run in args.own_window]
-    rows += [run_row(_run_dir(run), args.t_start) for run in args.runs]
+    runs = [(run, None) for run in args.own_window] + [(run, args.t_start) for run in args.runs]
+    rows = []
+    for run, t_start in runs:
+        try:
+            rows.append(run_row(_run_dir(run), t_start))
+        except ValueError as e:  # a run that stopped before its averaging window
+            summary = read_summary(_run_dir(run))
+            if summary.get("ended", "t_end") == "t_end":
+                raise
+            print(f"tables: left out {_run_dir(run)}: it stopped early "
+                  f"({summary['ended']}: {summary.get('end_message', '')}) and {e}",
+                  file=sys.stderr)
     write_table(args.out, rows, COLUMNS)
 
 

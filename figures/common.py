@@ -62,6 +62,11 @@ def footer(rows, t_start=None):
         parts.append(f"dilute limit: N_E = {_span([elements(r['mesh_level']) for r in dil], '{:d}')}, "
                      f"average over [{_span([r['t_start'] for r in dil])}, "
                      f"{_span([round(r['t_end'], 2) for r in dil])}]")
+    early = [r for r in rows if r.get("ended", "t_end") != "t_end"]
+    if early:
+        parts.append("stopped early (averaged to their stop): " + ", ".join(
+            f"Ca {r['ca']:g} phi {r['phi']:g} seed {int(r['seed'])} at {r['t_end']:.2f} "
+            f"({r['ended']})" for r in early))
     return "Runs: " + "; ".join(parts)
 
 

@@ -139,7 +139,11 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
       ->capture_default_str();
   b->add_option("--mesh-level", a.o.mesh_level, "icosphere level")->capture_default_str();
   b->add_option("--phi", a.o.phi, "volume fraction")->capture_default_str();
-  b->add_option("--method", a.o.method, "spectral | direct")->capture_default_str();
+  b->add_option("--method", a.o.method, "spectral | direct | patches")
+      ->capture_default_str();
+  b->add_option("--patch-level", a.o.patch_level,
+                "method patches: icosphere level of the patches (1: P = 80)")
+      ->capture_default_str();
   b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")->capture_default_str();
   b->add_option("--strain", a.o.strain, "lattice strain offset")->capture_default_str();
   b->add_option("--seed", a.o.seed, "packing seed")->capture_default_str();

@@ -51,5 +51,10 @@ CAPSIM_HD double norm(Vec3 a) {
 struct Mat3 {
   double m[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
 };
+CAPSIM_HD Vec3 operator*(const Mat3& a, Vec3 v) {
+  return {a.m[0][0] * v.x + a.m[0][1] * v.y + a.m[0][2] * v.z,
+          a.m[1][0] * v.x + a.m[1][1] * v.y + a.m[1][2] * v.z,
+          a.m[2][0] * v.x + a.m[2][1] * v.y + a.m[2][2] * v.z};
+}
 
 } // namespace capsim

@@ -171,10 +171,11 @@ const std::vector<Param>& parameters() {
           "phi", {0, 0.45, false, false}, [](RunOptions& o) -> double& { return o.phi; },
           "volume fraction; 0 = one capsule in unbounded shear (dilute limit)"),
       choice(
-          "method", {"spectral", "direct"},
+          "method", {"spectral", "direct", "patches"},
           [](RunOptions& o) -> std::string& { return o.method; },
-          "periodic sums (phi > 0): spectral (Spectral Ewald, FFT) or direct (plain "
-          "Ewald, the reference)"),
+          "periodic sums (phi > 0): spectral (Spectral Ewald, FFT), direct (plain "
+          "Ewald, the reference) or patches (plain Ewald with the reciprocal sum over "
+          "multipole patches, the paper's coarse graining)"),
       integer(
           "capsules", {1, 10000, false, false},
           [](RunOptions& o) -> int& { return o.capsules; },
@@ -230,6 +231,11 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.ewald.tolerance; },
           "truncation tolerance of the Ewald sums (phi > 0)"),
       ewald_xi(),
+      integer(
+          "ewald.patch_level", {0, 3, false, false},
+          [](RunOptions& o) -> int& { return o.ewald.patch_level; },
+          "method patches: the patches are the faces of this icosphere level (0, 1, 2, "
+          "3: P = 20, 80, 320, 1280 per capsule); at most mesh_level"),
       real(
           "suspension.min_gap", {0, 2, false, false},
           [](RunOptions& o) -> double& { return o.suspension.min_gap; },
@@ -308,6 +314,10 @@ void validate(const RunOptions& o) {
   if (o.phi == 0 && o.capsules != 1)
     throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
                       std::to_string(o.capsules));
+  if (o.method == "patches" && o.ewald.patch_level > o.mesh_level)
+    throw ConfigError("ewald.patch_level: must be at most mesh_level (" +
+                      std::to_string(o.mesh_level) + ") with method: patches, got " +
+                      std::to_string(o.ewald.patch_level));
   if (o.backend == "cuda")
     validate_cuda_backend(o);
 }

@@ -22,6 +22,7 @@ struct OutputOptions {
 struct EwaldOptions {
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; 0 = automatic ("auto", cost-balanced)
+  int patch_level = 1;     // method patches: patches = faces of this icosphere level
 };
 
 struct SuspensionOptions {
@@ -31,7 +32,7 @@ struct SuspensionOptions {
 
 struct RunOptions {
   double ca = 0.2;                 // capillary number mu gammadot a / Gs
-  std::string method = "spectral"; // periodic sums: spectral (Spectral Ewald) or direct
+  std::string method = "spectral"; // periodic sums: spectral, direct or patches
   double phi = 0.0;                // volume fraction; 0 = one capsule in unbounded shear
   int capsules = 1;                // capsules per periodic box
   int mesh_level = 3;              // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles

@@ -10,10 +10,16 @@
 namespace capsim {
 
 PeriodicBox make_periodic_box(double L, const std::string& method, double tolerance,
-                              double xi, long nodes, long points) {
+                              double xi, long nodes, long points, int patch_level) {
   PeriodicBox box;
   box.L = L;
   box.spectral = method == "spectral";
+  // Patches take the Ewald parameters of the direct method: the two differ only in the
+  // sources of the reciprocal sum. (Balancing for the fewer patch sources would raise xi
+  // and with it the coarse-graining error, which grows like (xi d)^2 for patches of
+  // diameter d.)
+  if (method == "patches")
+    box.patch_level = patch_level;
   if (xi <= 0)
     xi = box.spectral ? spectral_xi(L, tolerance, nodes, points)
                       : balanced_xi(L, tolerance, nodes, points);
@@ -83,7 +89,7 @@ void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
   traction(x, q);
   if (periodic())
     periodic_single_layer_velocity(topo, num_capsules_, x, q, lattice(t), box_.ewald,
-                                   quadrature_, u, spectral_.get());
+                                   quadrature_, u, {spectral_.get(), box_.patch_level});
   else
     single_layer_velocity(topo, num_capsules_, x, q, quadrature_, u);
   for (size_t i = 0; i < x.size(); ++i)

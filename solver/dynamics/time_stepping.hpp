@@ -13,10 +13,13 @@
 
 namespace capsim {
 
-// A numerical failure (NaN, blow-up, broken mesh): the run stops, the last good
-// checkpoint stays.
+// A run that cannot go on: a numerical failure (kind "numerical": NaN, blow-up, broken
+// mesh) or two capsules in contact (kind "contact"). The run stops, the last good
+// checkpoint stays, and summary.json records the kind as how the run ended.
 struct SimulationError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit SimulationError(const std::string& what, std::string kind = "numerical")
+      : std::runtime_error(what), kind(std::move(kind)) {}
+  std::string kind;
 };
 
 // The periodic box of a suspension: a cube of side L sheared with the flow (Lees-Edwards:
@@ -26,12 +29,14 @@ struct PeriodicBox {
   EwaldParameters ewald;
   bool spectral = false;   // reciprocal sums by Spectral Ewald (else directly)
   SpectralParameters grid; // its grid, when spectral
+  int patch_level = -1;    // >= 0: direct reciprocal sums over multipole patches
 };
 
-// The box of side L for `method` (spectral | direct) at `tolerance`: xi as given, or
-// (xi <= 0) chosen for speed from the numbers of target nodes and source points.
+// The box of side L for `method` (spectral | direct | patches) at `tolerance`: xi as
+// given, or (xi <= 0) chosen for speed from the numbers of target nodes and source
+// points; patch_level: the patches' icosphere level for method patches.
 PeriodicBox make_periodic_box(double L, const std::string& method, double tolerance,
-                              double xi, long nodes, long points);
+                              double xi, long nodes, long points, int patch_level = -1);
 
 // Where the velocity field is evaluated: the CPU (OpenMP), or a CUDA device
 // (cuda/device_flow.hpp) with the data resident there between steps.

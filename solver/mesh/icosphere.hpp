@@ -28,6 +28,14 @@ constexpr int kMaxMeshLevel = 6;
 // Throws std::invalid_argument for a level outside [kMinMeshLevel, kMaxMeshLevel].
 Icosphere make_icosphere(int level);
 
+// The level of an icosphere topology, from its 20 * 4^level triangles.
+inline int icosphere_level(const Topology& topo) {
+  int level = 0;
+  while ((20 << (2 * level)) < int(topo.triangles.size()))
+    ++level;
+  return level;
+}
+
 // The level-`coarse` face each fine triangle of make_icosphere(fine) descends from
 // (subdivision keeps children contiguous: fine triangle t comes from t /
 // 4^(fine-coarse)).

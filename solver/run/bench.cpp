@@ -33,8 +33,10 @@ void check_options(const BenchOptions& o) {
     throw ConfigError("--mesh-level must be in [0, 5]");
   if (!(o.phi > 0 && o.phi <= 0.45))
     throw ConfigError("--phi must be in (0, 0.45]");
-  if (o.method != "spectral" && o.method != "direct")
-    throw ConfigError("--method must be spectral or direct (patches: not yet built)");
+  if (o.method != "spectral" && o.method != "direct" && o.method != "patches")
+    throw ConfigError("--method must be spectral, direct or patches");
+  if (o.patch_level < 0 || o.patch_level > o.mesh_level)
+    throw ConfigError("--patch-level must be in [0, --mesh-level]");
   if (!(o.tolerance >= 1e-12 && o.tolerance < 1))
     throw ConfigError("--tolerance must be in [1e-12, 1)");
   if (o.repeats < 1 || o.repeats > 100)
@@ -142,19 +144,20 @@ std::string run_benchmark(const BenchOptions& o) {
   const long nodes = long(c.x.size());
   const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
   const PeriodicBox box =
-      make_periodic_box(c.L, o.method, o.tolerance, o.xi, nodes, points);
+      make_periodic_box(c.L, o.method, o.tolerance, o.xi, nodes, points, o.patch_level);
   const ShearedLattice lattice = make_sheared_lattice(c.L, o.strain);
   std::unique_ptr<SpectralEwald> spectral;
   if (box.spectral)
     spectral = std::make_unique<SpectralEwald>(c.L, box.ewald, box.grid);
   std::vector<Vec3> u;
   periodic_single_layer_velocity(c.mesh.topology, o.capsules, c.x, c.q, lattice,
-                                 box.ewald, quad, u, spectral.get()); // warm-up
+                                 box.ewald, quad, u, {spectral.get(), box.patch_level});
   PeriodicTimings t;
   const double t0 = omp_get_wtime();
   for (int r = 0; r < o.repeats; ++r)
     periodic_single_layer_velocity(c.mesh.topology, o.capsules, c.x, c.q, lattice,
-                                   box.ewald, quad, u, spectral.get(), &t);
+                                   box.ewald, quad, u, {spectral.get(), box.patch_level},
+                                   &t);
   const double per_eval = (omp_get_wtime() - t0) / o.repeats;
 
   JsonWriter j;
@@ -173,6 +176,8 @@ std::string run_benchmark(const BenchOptions& o) {
   j.field("xi", box.ewald.xi);
   j.field("r_cut", box.ewald.r_cut);
   j.field("k_cut", box.ewald.k_cut);
+  if (box.patch_level >= 0)
+    j.field("patches", o.capsules * (20L << (2 * box.patch_level)));
   if (box.spectral) {
     j.field("grid", box.grid.grid);
     j.field("support", box.grid.support);

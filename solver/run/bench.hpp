@@ -11,7 +11,8 @@ struct BenchOptions {
   int capsules = 27;
   int mesh_level = 3;
   double phi = 0.3;
-  std::string method = "spectral"; // spectral | direct
+  std::string method = "spectral"; // spectral | direct | patches
+  int patch_level = 1;             // patches: faces of this icosphere level (P = 80)
   double tolerance = 1e-4;
   double strain = 0.0;
   int seed = 1;

@@ -41,7 +41,8 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   const double L = std::cbrt(o.capsules * 4.0 * kPi / (3.0 * o.phi));
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
-  return make_periodic_box(L, o.method, o.ewald.tolerance, o.ewald.xi, nodes, points);
+  return make_periodic_box(L, o.method, o.ewald.tolerance, o.ewald.xi, nodes, points,
+                           o.ewald.patch_level);
 }
 
 long steps_for(double interval, double dt) {
@@ -86,14 +87,19 @@ public:
   void start_fresh();
   void start_from(const Checkpoint& c);
   void run();
-  void write_summary(double wall_seconds, bool resumed) const;
+  // summary.json; `ended` is "t_end" or the SimulationError kind that stopped the run.
+  void write_summary(double wall_seconds, bool resumed,
+                     const std::string& ended = "t_end",
+                     const std::string& end_message = "") const;
 
 private:
   void take_sample();
+  void flush_samples();
   void save_checkpoint();
   void save_snapshot();
   void report_progress(Clock::time_point begin, long first_step, bool force);
   void keep_in_box();
+  void step_until_end(Clock::time_point begin, long first);
 
   RunOptions o_;
   std::string dir_;
@@ -155,9 +161,22 @@ void RunLoop::start_from(const Checkpoint& c) {
   write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
 }
 
+// A SimulationError leaves the loop with the samples taken since the last checkpoint
+// written to the time series (they are states that passed every check), so summary.json
+// can average up to the stop; a resume drops them again with the rest after the
+// checkpoint.
 void RunLoop::run() {
   const auto begin = Clock::now();
   const long first = step_;
+  try {
+    step_until_end(begin, first);
+  } catch (const SimulationError&) {
+    flush_samples();
+    throw;
+  }
+}
+
+void RunLoop::step_until_end(Clock::time_point begin, long first) {
   while (step_ < n_steps_) {
     rk2_step(flow_, x_, step_ * dt_, dt_);
     ++step_;
@@ -185,14 +204,16 @@ void RunLoop::keep_in_box() {
   ClosestApproach c = closest_approach(mesh_.topology, o_.capsules, lattice, x_,
                                        o_.suspension.stop_distance);
   if (c.distance < o_.suspension.stop_distance)
-    throw SimulationError("capsules " + std::to_string(c.capsule_a) + " and " +
-                          std::to_string(c.capsule_b) +
-                          " touch at gammadot*t = " + std::to_string(step_ * dt_) +
-                          " (node distance " + std::to_string(c.distance) +
-                          " < suspension.stop_distance): the near-contact "
-                          "flow is under-resolved; start again with a smaller dt or a "
-                          "finer mesh (the output "
-                          "folder keeps the last good checkpoint and time series)");
+    throw SimulationError(
+        "capsules " + std::to_string(c.capsule_a) + " and " +
+            std::to_string(c.capsule_b) +
+            " touch at gammadot*t = " + std::to_string(step_ * dt_) + " (node distance " +
+            std::to_string(c.distance) +
+            " < suspension.stop_distance): the near-contact "
+            "flow is under-resolved; start again with a smaller dt or a "
+            "finer mesh (the output "
+            "folder keeps the last good checkpoint and time series)",
+        "contact");
 }
 
 void RunLoop::take_sample() {
@@ -214,7 +235,7 @@ void RunLoop::take_sample() {
 // The time series is opened only here, appended and closed, then the checkpoint is
 // renamed into place: between checkpoints no file of the run is open for writing, so a
 // run killed at any moment leaves readable files, and h5py can read them during a run.
-void RunLoop::save_checkpoint() {
+void RunLoop::flush_samples() {
   {
     TimeseriesWriter series(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
     for (const auto& s : pending_)
@@ -222,6 +243,10 @@ void RunLoop::save_checkpoint() {
   }
   rows_written_ += long(pending_.size());
   pending_.clear();
+}
+
+void RunLoop::save_checkpoint() {
+  flush_samples();
   Checkpoint c;
   c.time = step_ * dt_;
   c.step = step_;
@@ -260,9 +285,12 @@ void RunLoop::report_progress(Clock::time_point begin, long first_step, bool for
       step_ * dt_, n_steps_ * dt_, 100.0 * step_ / n_steps_, step_, n_steps_, rate, eta);
 }
 
-void RunLoop::write_summary(double wall_seconds, bool resumed) const {
+void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string& ended,
+                            const std::string& end_message) const {
   std::vector<Sample> samples = read_timeseries(dir_ + "/timeseries.h5");
   SummaryFacts facts;
+  facts.ended = ended;
+  facts.end_message = end_message;
   facts.dt = dt_;
   facts.mean_edge = h_;
   facts.steps = step_;
@@ -275,7 +303,7 @@ void RunLoop::write_summary(double wall_seconds, bool resumed) const {
   facts.ewald_k_cut = box_.ewald.k_cut;
   facts.spectral_grid = box_.grid.grid;
   facts.spectral_support = box_.grid.support;
-  double t_final = step_ * dt_;
+  double t_final = samples.empty() ? 0.0 : samples.back().time;
   write_summary_json(dir_ + "/summary.json", o_,
                      time_average(samples, o_.t_avg_start, t_final), facts);
 }
@@ -314,9 +342,16 @@ void run_simulation(const RunRequest& request) {
     loop.start_from(checkpoint);
   else
     loop.start_fresh();
-  loop.run();
-  loop.write_summary(std::chrono::duration<double>(Clock::now() - begin).count(),
-                     request.resume);
+  auto seconds = [&] {
+    return std::chrono::duration<double>(Clock::now() - begin).count();
+  };
+  try {
+    loop.run();
+  } catch (const SimulationError& e) {
+    loop.write_summary(seconds(), request.resume, e.kind, e.what());
+    throw;
+  }
+  loop.write_summary(seconds(), request.resume);
 }
 
 } // namespace capsim

@@ -15,6 +15,11 @@ void write_summary_json(const std::string& path, const RunOptions& o,
   j.field("version", CAPSIM_VERSION);
   // In the dilute limit (phi = 0) mu_sp, N1, N2 are the intrinsic values per unit phi.
   j.field("intrinsic", o.phi == 0);
+  // How the run ended: "t_end", or "contact"/"numerical" for a stop whose averages
+  // cover [t_avg_start, t_end] up to the last good sample (null when that is empty).
+  j.field("ended", facts.ended);
+  if (!facts.end_message.empty())
+    j.field("end_message", facts.end_message);
   j.field("taylor_D", a.D_mean);
   j.field("taylor_D_std", a.D_std);
   j.field("theta_D_deg", a.theta_D_mean);

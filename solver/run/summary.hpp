@@ -15,6 +15,8 @@ struct SummaryFacts {
   double box_side = 0; // periodic box side L; 0 in the dilute limit
   double ewald_xi = 0, ewald_r_cut = 0, ewald_k_cut = 0;
   int spectral_grid = 0, spectral_support = 0; // 0 for the direct method
+  std::string ended = "t_end"; // or the SimulationError kind: "contact", "numerical"
+  std::string end_message;     // why it stopped early; empty for "t_end"
 };
 
 void write_summary_json(const std::string& path, const RunOptions& o,

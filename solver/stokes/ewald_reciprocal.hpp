@@ -3,6 +3,7 @@
 //   u_i += (8 pi / V) sum_{0 < |k| < k_cut} J^EII(k) Re[exp(i k . x_i) sum_g f_g exp(-i k
 //   . y_g)]
 // evaluated directly, O((N_targets + N_sources) K): the reference for Spectral Ewald.
+#include "stokes/multipole_patches.hpp"
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/triangle_sources.hpp"
 
@@ -14,5 +15,13 @@ namespace capsim {
 void ewald_reciprocal_direct(const ShearedLattice& g, const std::vector<Vec3>& x,
                              const FarSources& s, const EwaldParameters& p,
                              std::vector<Vec3>& u);
+
+// The same sum with every source capsule coarse-grained into multipole patches (paper
+// eqs. 3.3-3.6): a patch at c with force F and first moment D acts as
+// J^EII(x - c) F - d_l J^EII(x - c) D_.l, so its structure-factor terms are
+// F exp(-i k.c) and -i (D k) exp(-i k.c). Method `patches`.
+void ewald_reciprocal_patches(const ShearedLattice& g, const std::vector<Vec3>& x,
+                              const std::vector<PatchMoments>& patches,
+                              const EwaldParameters& p, std::vector<Vec3>& u);
 
 } // namespace capsim

@@ -11,13 +11,31 @@
 #include <stdexcept>
 
 namespace capsim {
+namespace {
+
+// The patches of every capsule, one after another.
+std::vector<PatchMoments> all_patch_moments(const Topology& topo, int num_capsules,
+                                            const std::vector<Vec3>& x,
+                                            const std::vector<Vec3>& q, int patch_level) {
+  const int nn = topo.num_nodes, mesh_level = icosphere_level(topo);
+  std::vector<PatchMoments> all;
+  for (int c = 0; c < num_capsules; ++c) {
+    std::vector<PatchMoments> p =
+        patch_moments(topo, mesh_level, patch_level, &x[c * nn], &q[c * nn]);
+    all.insert(all.end(), p.begin(), p.end());
+  }
+  return all;
+}
+
+} // namespace
+
 void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
                                     const std::vector<Vec3>& x,
                                     const std::vector<Vec3>& q,
                                     const ShearedLattice& lattice,
                                     const EwaldParameters& ewald,
                                     const QuadratureOptions& quad, std::vector<Vec3>& u,
-                                    SpectralEwald* spectral, PeriodicTimings* timings) {
+                                    ReciprocalSum reciprocal, PeriodicTimings* timings) {
   const double t0 = omp_get_wtime();
   const int num_tri = int(topo.triangles.size()) * num_capsules;
   std::vector<TriangleLoad> loads(num_tri);
@@ -54,8 +72,13 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
   const double t2 = omp_get_wtime();
   const long pairs = add_real_space_sum(lattice, far, x, ewald, u);
   const double t3 = omp_get_wtime();
-  if (spectral)
-    spectral->add_reciprocal(lattice, far, x, u, timings ? &timings->spectral : nullptr);
+  if (reciprocal.spectral)
+    reciprocal.spectral->add_reciprocal(lattice, far, x, u,
+                                        timings ? &timings->spectral : nullptr);
+  else if (reciprocal.patch_level >= 0)
+    ewald_reciprocal_patches(
+        lattice, x, all_patch_moments(topo, num_capsules, x, q, reciprocal.patch_level),
+        ewald, u);
   else
     ewald_reciprocal_direct(lattice, x, far, ewald, u);
   if (timings) {

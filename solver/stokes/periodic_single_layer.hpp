@@ -6,7 +6,7 @@
 //    - real space: every rule point and image within r_cut, screened kernel J^EI, through
 //      cell lists (real_space_sum.hpp);
 //    - reciprocal space: summed directly over 0 < |k| < k_cut, O((N + N_src) K), or by
-//      Spectral Ewald when `spectral` is given;
+//      Spectral Ewald, or directly over multipole patches (ReciprocalSum);
 //  - for the triangle images near x_i (closer than far_ratio diameters): the accurate
 //    free-space integral (polar rule at a vertex, adaptive subdivision otherwise) minus
 //    the 3-point rule of the free-space kernel.
@@ -28,10 +28,19 @@ struct PeriodicTimings {
   SpectralTimings spectral;  // the reciprocal stages, when Spectral Ewald is used
 };
 
+// How the reciprocal sum is taken: by Spectral Ewald when `spectral` is given (method
+// spectral); else directly, over the 3-point rule points (patch_level < 0, method direct)
+// or over the multipole patches of every capsule, the faces of icosphere level
+// patch_level (method patches: the paper's coarse graining, section 3.1).
+struct ReciprocalSum {
+  SpectralEwald* spectral = nullptr;
+  int patch_level = -1;
+};
+
 void periodic_single_layer_velocity(
     const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
     const std::vector<Vec3>& q, const ShearedLattice& lattice,
     const EwaldParameters& ewald, const QuadratureOptions& quad, std::vector<Vec3>& u,
-    SpectralEwald* spectral = nullptr, PeriodicTimings* timings = nullptr);
+    ReciprocalSum reciprocal = {}, PeriodicTimings* timings = nullptr);
 
 } // namespace capsim

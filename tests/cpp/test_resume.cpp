@@ -151,15 +151,60 @@ TEST_CASE("resume: bad input is refused and loses nothing", "[resume]") {
   fs::remove_all(dir);
 }
 
-TEST_CASE("resume: a numerical blow-up stops with exit 3 and keeps the checkpoint",
+namespace {
+
+std::string text_of(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+} // namespace
+
+TEST_CASE("resume: a numerical blow-up stops with exit 3, keeps the checkpoint and says "
+          "how the run ended",
           "[resume]") {
   fs::path dir = fresh_dir("blowup");
   // dt far above the stable ~0.5 Ca h: the membrane folds within a few steps.
   CHECK(run({"run", "-q", "--set", "mesh_level=2", "--set", "ca=0.05", "--set", "dt=0.2",
              "--set", "t_end=5", "--set", "t_avg_start=0", "-o", dir.string()}) == 3);
-  CHECK_FALSE(fs::exists(dir / "summary.json"));
   Checkpoint c = read_checkpoint((dir / "checkpoint.h5").string());
   CHECK(c.step == 0);
+  const std::string summary = text_of(dir / "summary.json");
+  CHECK(summary.find("\"ended\": \"numerical\"") != std::string::npos);
+  CHECK(summary.find("\"end_message\": \"numerical failure at gammadot*t") !=
+        std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("resume: a contact stop keeps the samples before it and records \"contact\"",
+          "[resume]") {
+  fs::path dir = fresh_dir("contact");
+  // Two capsules at phi 0.45 come within 0.2 of each other near gammadot*t = 1.3
+  // (measured): the run stops there and keeps the samples taken before the stop.
+  REQUIRE(run({"run",   "-q",
+               "--set", "method=direct",
+               "--set", "phi=0.45",
+               "--set", "capsules=2",
+               "--set", "mesh_level=1",
+               "--set", "t_end=4",
+               "--set", "t_avg_start=0",
+               "--set", "suspension.min_gap=0.05",
+               "--set", "suspension.stop_distance=0.2",
+               "--set", "output.sample_interval=0.1",
+               "--set", "output.checkpoint_interval=10",
+               "--set", "threads=1",
+               "-o",    dir.string()}) == 3);
+  const std::string summary = text_of(dir / "summary.json");
+  CHECK(summary.find("\"ended\": \"contact\"") != std::string::npos);
+  auto samples = read_timeseries((dir / "timeseries.h5").string());
+  REQUIRE(samples.size() >= 5);
+  CHECK(samples.back().time < 4.0);
+  CHECK(summary.find("\"samples\": " + std::to_string(samples.size())) !=
+        std::string::npos);
+  // A resume starts again from the last checkpoint (here the initial state).
+  CHECK(read_checkpoint((dir / "checkpoint.h5").string()).step == 0);
   fs::remove_all(dir);
 }
 
@@ -199,6 +244,8 @@ TEST_CASE("cli: capsim bench prints its JSON with the error against the referenc
   const double error = std::stod(text.substr(text.find("\"rel_error\": ") + 13));
   CHECK(error < 1e-3);
   CHECK(run({"bench", "--phi", "0.9"}) == 2);
-  CHECK(run({"bench", "--method", "patches"}) == 2);
+  CHECK(run({"bench", "--method", "multipole"}) == 2);
+  CHECK(run({"bench", "--method", "patches", "--mesh-level", "1", "--patch-level", "2"}) ==
+        2);
   fs::remove(out);
 }

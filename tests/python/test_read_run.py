@@ -147,3 +147,38 @@ def test_time_average_empty_window_raises():
 def test_time_average_shape_mismatch_raises():
     with pytest.raises(ValueError, match="does not match"):
         time_average(np.zeros((5, 2)), TIMES, 0.0, 10.0)
+
+
+def _summary(run_dir, ended, t_avg_start=4.0):
+    summary = {"parameters": {"ca": 0.2, "phi": 0.1, "capsules": M, "seed": 1,
+                              "mesh_level": 2},
+               "t_avg_start": t_avg_start, "ended": ended}
+    if ended != "t_end":
+        summary["end_message"] = "capsules 0 and 1 touch"
+    (run_dir / "summary.json").write_text(json.dumps(summary), encoding="utf-8")
+    return run_dir
+
+
+def test_tables_keep_a_stopped_run_and_leave_out_one_stopped_before_its_window(
+        tmp_path, capsys):
+    from analysis import tables
+    whole = _summary(write_run(tmp_path / "whole", make_series()), "t_end")
+    early = {k: v[:4] for k, v in make_series().items()}  # stopped after t = 6
+    stopped = _summary(write_run(tmp_path / "stopped", early), "contact")
+    too_early = {k: v[:2] for k, v in make_series().items()}  # stopped after t = 2
+    lost = _summary(write_run(tmp_path / "lost", too_early), "contact")
+    out = tmp_path / "table.csv"
+    tables.main(["--out", str(out), str(whole), str(stopped), str(lost)])
+    rows = tables.read_table(out)
+    assert [r["ended"] for r in rows] == ["t_end", "contact"]
+    assert rows[0]["t_end"] == 10.0 and rows[1]["t_end"] == 6.0
+    assert rows[1]["D"] == pytest.approx((0.4 + 0.6 + 0.6 + 0.8) / 4)
+    assert "left out" in capsys.readouterr().err
+
+
+def test_tables_refuse_a_finished_run_without_samples_in_its_window(tmp_path):
+    from analysis import tables
+    short = {k: v[:2] for k, v in make_series().items()}
+    run = _summary(write_run(tmp_path / "short", short), "t_end")
+    with pytest.raises(ValueError, match="no samples"):
+        tables.main(["--out", str(tmp_path / "t.csv"), str(run)])

@@ -48,17 +48,22 @@ rule suspension_run:
         mem_mb=lambda wc: config["resources"]["suspension_mem_mb"],
     shell:
         """
+        rc=0
         if [ -f {params.dir}/checkpoint.h5 ]; then
           {input} run -q --resume {params.dir} --set threads={threads} \
-            --set t_end={params.t_end} > {log} 2>&1
+            --set t_end={params.t_end} > {log} 2>&1 || rc=$?
         else
           {input} run -q --set ca={wildcards.ca} --set phi={wildcards.phi} \
             --set capsules={wildcards.M} --set mesh_level={wildcards.level} \
             --set seed={wildcards.seed} --set t_end={params.t_end} \
             --set t_avg_start={params.t_avg_start} \
             --set output.snapshot_interval={params.snapshots} {params.options} \
-            --set threads={threads} -o {params.dir} > {log} 2>&1
+            --set threads={threads} -o {params.dir} > {log} 2>&1 || rc=$?
         fi
+        # Exit 3: the run stopped early (contact, numerical failure) and summary.json says
+        # how ("ended"); its data up to the stop stay in the study and the figures name it.
+        if [ "$rc" -eq 3 ] && [ -f {output} ]; then echo "stopped early: see {log}" >&2
+        elif [ "$rc" -ne 0 ]; then exit "$rc"; fi
         """
 
 
