@@ -245,6 +245,16 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.suspension.stop_distance; },
           "stop the run when nodes of two capsules come this close (phi > 0)"),
       real(
+          "suspension.repulsion_force", {0, 100, false, false},
+          [](RunOptions& o) -> double& { return o.suspension.repulsion.force; },
+          "short-range repulsion between nodes of different capsules: force at contact, "
+          "in mu gammadot a^2 (the scale of the flow that presses capsules together); "
+          "0 = off (the paper has none)"),
+      real(
+          "suspension.repulsion_range", {0, 1, true, false},
+          [](RunOptions& o) -> double& { return o.suspension.repulsion.range; },
+          "distance below which the repulsion acts, in a"),
+      real(
           "output.sample_interval", {0, kBig, true, false},
           [](RunOptions& o) -> double& { return o.output.sample_interval; },
           "strain between rows of timeseries.h5"),
@@ -304,6 +314,10 @@ void validate_cuda_backend(const RunOptions& o) {
   if (o.phi > 0 && o.method != "spectral")
     throw ConfigError("method: must be spectral with backend: cuda, got '" + o.method +
                       "'");
+  if (o.suspension.repulsion.on())
+    throw ConfigError("suspension.repulsion_force: must be 0 with backend: cuda (the "
+                      "repulsion runs on the CPU only), got " +
+                      format_number(o.suspension.repulsion.force));
 }
 
 // Checks that involve more than one key.

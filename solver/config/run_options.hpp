@@ -3,6 +3,7 @@
 // names every key, its default, its allowed range and its help text. Parsing, validation,
 // the resolved run.yaml and `capsim params` all read that table, so they cannot drift
 // apart.
+#include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/single_layer.hpp"
 
@@ -28,6 +29,7 @@ struct EwaldOptions {
 struct SuspensionOptions {
   double min_gap = 0.1;        // smallest surface gap between capsules at t = 0, in a
   double stop_distance = 0.02; // stop when nodes of two capsules come this close, in a
+  RepulsionOptions repulsion;  // between capsules; off by default
 };
 
 struct RunOptions {

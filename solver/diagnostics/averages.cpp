@@ -33,10 +33,14 @@ RunAverages time_average(const std::vector<Sample>& samples, double t_start,
   a.t_end = t_end;
   MeanStd d, th, ps, ts, en;
   for (const auto& s : samples) {
+    double repelled = 0;
     for (const auto& c : s.capsules) {
       a.volume_error_max = std::max(a.volume_error_max, std::abs(c.volume_error));
       a.volume_drift_max = std::max(a.volume_drift_max, std::abs(c.volume_drift));
+      repelled += c.repelled_nodes;
     }
+    a.repelled_samples += repelled > 0;
+    a.repelled_nodes_max = std::max(a.repelled_nodes_max, repelled);
     if (s.time < t_start - 1e-9 || s.time > t_end + 1e-9)
       continue;
     ++a.rows;

@@ -20,6 +20,9 @@ struct RunAverages {
   // Over the whole run: max |V - V0|/V0 of the states, and of one step's drift before
   // the constraint corrected it.
   double volume_error_max = 0, volume_drift_max = 0;
+  // Over all samples: how many had repelled nodes, and the most in one sample.
+  long repelled_samples = 0;
+  double repelled_nodes_max = 0;
   double energy_mean = 0;
 };
 

@@ -66,13 +66,30 @@ std::vector<double> CapsuleFlow::energy_gradient(const std::vector<Vec3>& x,
   return energy;
 }
 
-void CapsuleFlow::traction(const std::vector<Vec3>& x, std::vector<Vec3>& q) const {
+void CapsuleFlow::set_repulsion(const RepulsionOptions& r) {
+  if (r.on() && device_)
+    throw std::invalid_argument("the repulsion between capsules runs on the CPU only");
+  repulsion_ = r;
+}
+
+std::vector<int> CapsuleFlow::add_repulsion(const std::vector<Vec3>& x, double t,
+                                            std::vector<Vec3>& grad) const {
+  std::vector<int> count(num_capsules_, 0);
+  if (repulsion_.on() && periodic())
+    add_repulsion_gradient(lattice(t), membrane_.topology().num_nodes, x, repulsion_,
+                           grad, &count);
+  return count;
+}
+
+void CapsuleFlow::traction(const std::vector<Vec3>& x, double t,
+                           std::vector<Vec3>& q) const {
   if (device_)
     return device_->traction(x, q);
   const int nn = membrane_.topology().num_nodes;
   std::vector<Vec3> grad, qc;
   q.resize(x.size());
   energy_gradient(x, grad);
+  add_repulsion(x, t, grad);
   for (int c = 0; c < num_capsules_; ++c) {
     std::vector<Vec3> gc(grad.begin() + c * nn, grad.begin() + (c + 1) * nn);
     membrane_.nodal_load(&x[c * nn], gc, load_, qc);
@@ -86,7 +103,7 @@ void CapsuleFlow::velocity(const std::vector<Vec3>& x, double t,
     return device_->velocity(x, t, u);
   const Topology& topo = membrane_.topology();
   std::vector<Vec3> q;
-  traction(x, q);
+  traction(x, t, q);
   if (periodic())
     periodic_single_layer_velocity(topo, num_capsules_, x, q, lattice(t), box_.ewald,
                                    quadrature_, u, {spectral_.get(), box_.patch_level});

@@ -1,6 +1,7 @@
 #pragma once
 // Time integration of the membrane nodes (paper eq. 3.2): explicit 2nd-order Runge-Kutta
 // (Heun) on dx/dt = v(x), then Freund's (2007) volume constraint.
+#include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/single_layer.hpp"
@@ -55,8 +56,16 @@ public:
               LoadMapping load, QuadratureOptions quadrature, PeriodicBox box = {},
               Backend backend = Backend::cpu);
 
-  // The traction jump q at the nodes (capsule after capsule) at positions x.
-  void traction(const std::vector<Vec3>& x, std::vector<Vec3>& q) const;
+  // The traction jump q at the nodes (capsule after capsule) at positions x and time t:
+  // the membrane load, plus the repulsion between capsules when it is on.
+  void traction(const std::vector<Vec3>& x, double t, std::vector<Vec3>& q) const;
+
+  // Short-range repulsion between capsules (periodic box, CPU backend only).
+  void set_repulsion(const RepulsionOptions& r);
+  // Adds the repulsion's dE/dx at (x, t) to grad when it is on; returns, per capsule,
+  // the nodes within its range of another capsule (zeros when off).
+  std::vector<int> add_repulsion(const std::vector<Vec3>& x, double t,
+                                 std::vector<Vec3>& grad) const;
 
   // Node velocities u at positions x and time t (the time sets the lattice strain).
   void velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const;
@@ -82,6 +91,7 @@ private:
   LoadMapping load_;
   QuadratureOptions quadrature_;
   PeriodicBox box_;
+  RepulsionOptions repulsion_;              // off unless set
   std::shared_ptr<SpectralEwald> spectral_; // FFT plans and grids, made once
   std::shared_ptr<DeviceFlow> device_;      // the cuda backend's state, when selected
 };

@@ -23,6 +23,8 @@ struct CapsuleSample {
   double volume_error = 0;   // (V - V0) / V0 of the state (after the volume constraint)
   double volume_drift = 0;   // largest (V - V0) / V0 one step made before the constraint
                              // restored V0, since the previous sample
+  double repelled_nodes = 0; // nodes within the repulsion range of another capsule
+                             // (0 when the repulsion is off)
 };
 
 // One row of the time series: all capsules at one time.

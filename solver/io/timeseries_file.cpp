@@ -62,6 +62,7 @@ const std::vector<CapsuleColumn>& capsule_columns() {
       scalar<&CapsuleSample::energy>("energy", "Gs a^2"),
       scalar<&CapsuleSample::volume_error>("volume_error", "1"),
       scalar<&CapsuleSample::volume_drift>("volume_drift", "1"),
+      scalar<&CapsuleSample::repelled_nodes>("repelled_nodes", "1"),
       {"stresslet", "Gs a^2", {3, 3}, get_stresslet, set_stresslet},
       {"centroid", "a", {3}, get_centroid, set_centroid},
   };

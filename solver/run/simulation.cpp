@@ -82,6 +82,7 @@ public:
     snapshot_every_ = steps_for(o.output.snapshot_interval, dt_);
     v0_.assign(o.capsules, enclosed_volume(mesh_.topology, mesh_.positions.data()));
     drift_.assign(o.capsules, 0.0);
+    flow_.set_repulsion(o.suspension.repulsion);
   }
 
   void start_fresh();
@@ -223,10 +224,13 @@ void RunLoop::take_sample() {
   Sample s;
   s.time = step_ * dt_;
   s.step = step_;
+  // The stresslet sees the whole load on the membrane, the repulsion's included.
+  const std::vector<int> repelled = flow_.add_repulsion(x_, s.time, grad);
   for (int c = 0; c < o_.capsules; ++c) {
     s.capsules.push_back(capsule_sample(mesh_.topology, &x_[c * nn], &grad[c * nn],
                                         energy[c], v0_[c], o_.ca));
     s.capsules.back().volume_drift = drift_[c];
+    s.capsules.back().repelled_nodes = repelled[c];
     drift_[c] = 0;
   }
   pending_.push_back(std::move(s));

@@ -33,6 +33,10 @@ void write_summary_json(const std::string& path, const RunOptions& o,
   j.field("energy_mean", a.energy_mean);
   j.field("volume_error_max", a.volume_error_max);
   j.field("volume_drift_max", a.volume_drift_max);
+  // The repulsion (suspension.repulsion_force > 0): samples in which it acted, and the
+  // most nodes within its range in one sample; both 0 when it is off or never acted.
+  j.field("repelled_samples", a.repelled_samples);
+  j.field("repelled_nodes_max", a.repelled_nodes_max);
   j.field("t_avg_start", a.t_start);
   j.field("t_end", a.t_end);
   j.field("samples", a.rows);

@@ -208,6 +208,40 @@ TEST_CASE("resume: a contact stop keeps the samples before it and records \"cont
   fs::remove_all(dir);
 }
 
+TEST_CASE("resume: the same close pair with the repulsion on runs to its end and counts "
+          "the samples in which it acted",
+          "[resume][repulsion]") {
+  fs::path dir = fresh_dir("repulsion");
+  // As in the contact test, with a repulsion of range 0.4 a (force 5 mu gammadot a^2 at
+  // contact): it holds the nodes apart beyond the stop distance 0.2 (measured: force 1
+  // is too weak and stops by contact).
+  REQUIRE(run({"run",   "-q",
+               "--set", "method=direct",
+               "--set", "phi=0.45",
+               "--set", "capsules=2",
+               "--set", "mesh_level=1",
+               "--set", "t_end=4",
+               "--set", "t_avg_start=0",
+               "--set", "suspension.min_gap=0.05",
+               "--set", "suspension.stop_distance=0.2",
+               "--set", "suspension.repulsion_force=5",
+               "--set", "suspension.repulsion_range=0.4",
+               "--set", "output.sample_interval=0.1",
+               "--set", "output.checkpoint_interval=10",
+               "--set", "threads=1",
+               "-o",    dir.string()}) == 0);
+  const std::string summary = text_of(dir / "summary.json");
+  CHECK(summary.find("\"ended\": \"t_end\"") != std::string::npos);
+  CHECK(summary.find("\"repelled_samples\": 0,") == std::string::npos);
+  auto samples = read_timeseries((dir / "timeseries.h5").string());
+  double repelled = 0;
+  for (const auto& s : samples)
+    for (const auto& c : s.capsules)
+      repelled += c.repelled_nodes;
+  CHECK(repelled > 0);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("cli: capsim greens prints the periodic Stokeslet and refuses lattice points",
           "[cli]") {
   fs::path out = fresh_dir("greens");
@@ -245,7 +279,7 @@ TEST_CASE("cli: capsim bench prints its JSON with the error against the referenc
   CHECK(error < 1e-3);
   CHECK(run({"bench", "--phi", "0.9"}) == 2);
   CHECK(run({"bench", "--method", "multipole"}) == 2);
-  CHECK(run({"bench", "--method", "patches", "--mesh-level", "1", "--patch-level", "2"}) ==
-        2);
+  CHECK(run({"bench", "--method", "patches", "--mesh-level", "1", "--patch-level",
+             "2"}) == 2);
   fs::remove(out);
 }
