@@ -1,10 +1,13 @@
 """Speed-against-error report of the periodic single-layer evaluation (`capsim bench`).
 
 Studies (each writes results/benchmarks/<study>_<case>.json, .md (table) and .png):
-  accuracy  error against requested tolerance, spectral and direct, strains 0 and 0.5
-  speed     seconds per evaluation against achieved error, spectral and direct
+  accuracy  error against requested tolerance, strains 0 and 0.5
+  speed     seconds per evaluation against achieved error
+  (both for the methods given with --methods: spectral, direct, patches)
   scaling   seconds per evaluation against the number of sources (spectral)
+  step      seconds per RK2 time step of `capsim run` (Ca 0.2, tolerance 1e-4), per method
 Usage: .venv/bin/python benchmarks/ewald_report.py STUDY [--capsules M] [--mesh-level N]
+           [--methods spectral,direct,patches]
 The error reference is direct Ewald at tolerance 1e-10 on the same configuration; it is
 computed once per configuration and cached under results/benchmarks/.
 """
@@ -57,21 +60,27 @@ def finish_plot(fig, ax, name, xlabel, ylabel, title, legend_size=None):
     fig.savefig(OUT / f"{name}.png", dpi=150)
 
 
-def accuracy(capsules, level):
+MARKERS = {"spectral": "o", "direct": "s", "patches": "^"}
+# Tolerances of the speed study: every decade for spectral, fewer for the slow methods.
+SPEED_TOLERANCES = {"spectral": (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8),
+                    "direct": (1e-2, 1e-4, 1e-6), "patches": (1e-2, 1e-4, 1e-6)}
+
+
+def accuracy(capsules, level, methods):
     tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
     rows = [bench(capsules, level, method, tol, strain, repeats=1)
-            for strain in (0.0, 0.5) for method in ("spectral", "direct")
-            for tol in tolerances]
+            for strain in (0.0, 0.5) for method in methods for tol in tolerances]
     lines = ["| method | strain | tolerance | rel. error (RMS) | max rel. error | s/eval |",
              "|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['method']} | {r['strain']} | {r['tolerance']:.0e} | "
                      f"{r['rel_error']:.2e} | {r['max_rel_error']:.2e} | "
                      f"{r['seconds_per_eval']:.3f} |")
-    name = f"accuracy_M{capsules}_L{level}"
+    name = f"accuracy_M{capsules}_L{level}" + suffix(methods)
     save(name, rows, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
-    for method, marker in (("spectral", "o"), ("direct", "s")):
+    for method in methods:
+        marker = MARKERS[method]
         for strain, fill in ((0.0, "full"), (0.5, "none")):
             sel = [r for r in rows if r["method"] == method and r["strain"] == strain]
             ax.loglog([r["tolerance"] for r in sel], [r["rel_error"] for r in sel],
@@ -81,11 +90,9 @@ def accuracy(capsules, level):
                 f"M = {capsules}, level {level}, phi 0.3", legend_size=7)
 
 
-def speed(capsules, level):
-    rows = [bench(capsules, level, "spectral", tol) for tol in
-            (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)]
-    rows += [bench(capsules, level, "direct", tol, repeats=1) for tol in
-             (1e-2, 1e-4, 1e-6)]
+def speed(capsules, level, methods):
+    rows = [bench(capsules, level, method, tol, repeats=2 if method == "spectral" else 1)
+            for method in methods for tol in SPEED_TOLERANCES[method]]
     lines = ["| method | tolerance | rel. error | s/eval | real space | near | "
              "spreading | FFT | gathering | grid | r_cut |", "|" + "---|" * 11]
     for r in rows:
@@ -95,13 +102,13 @@ def speed(capsules, level):
             f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | {s['near']:.3f} | "
             f"{s.get('spreading', 0):.3f} | {s.get('fft', 0):.3f} | "
             f"{s.get('gathering', 0):.3f} | {r.get('grid', '-')} | {r['r_cut']:.2f} |")
-    name = f"speed_M{capsules}_L{level}"
+    name = f"speed_M{capsules}_L{level}" + suffix(methods)
     save(name, rows, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
-    for method, marker in (("spectral", "o"), ("direct", "s")):
+    for method in methods:
         sel = [r for r in rows if r["method"] == method]
         ax.loglog([r["rel_error"] for r in sel], [r["seconds_per_eval"] for r in sel],
-                  marker=marker, label=method)
+                  marker=MARKERS[method], label=method)
     finish_plot(fig, ax, name, "achieved relative error",
                 "seconds per evaluation (2 cores)", f"M = {capsules}, level {level}, phi 0.3")
 
@@ -132,16 +139,59 @@ def scaling(level, tolerance=1e-4):
                 "seconds per evaluation (2 cores)", f"level {level}, phi 0.3, slope {slope:.2f}")
 
 
+def run_wall_seconds(capsules, level, method, steps, tolerance):
+    """Wall seconds of a `capsim run` of `steps` RK2 steps (setup included)."""
+    dt = 0.5 * 0.2 * {1: 0.62, 2: 0.31, 3: 0.155, 4: 0.078}[level]  # near the auto dt
+    out = OUT / f"step_run_M{capsules}_L{level}_{method}_{steps}"
+    subprocess.run(["rm", "-rf", str(out)], check=True)
+    cmd = [str(CAPSIM), "run", "-q", "--set", f"capsules={capsules}", "--set",
+           f"mesh_level={level}", "--set", "phi=0.3", "--set", "ca=0.2", "--set",
+           f"method={method}", "--set", f"ewald.tolerance={tolerance}", "--set",
+           f"dt={dt}", "--set", f"t_end={steps * dt}", "--set", "t_avg_start=0", "--set",
+           "output.snapshot_interval=0", "-o", str(out)]
+    print(" ".join(cmd[1:]), flush=True)
+    subprocess.run(cmd, check=True)
+    summary = json.loads((out / "summary.json").read_text())
+    subprocess.run(["rm", "-rf", str(out)], check=True)
+    return summary["wall_seconds"]
+
+
+def step(capsules, level, methods, tolerance=1e-4):
+    """Seconds per step: the difference of a 2-step and a 1-step run (no setup)."""
+    rows = []
+    for method in methods:
+        one = run_wall_seconds(capsules, level, method, 1, tolerance)
+        two = run_wall_seconds(capsules, level, method, 2, tolerance)
+        rows.append({"method": method, "capsules": capsules, "mesh_level": level,
+                     "tolerance": tolerance, "seconds_per_step": two - one,
+                     "setup_seconds": 2 * one - two})
+    lines = ["| method | capsules | level | tolerance | s/step | setup s |",
+             "|---|---|---|---|---|---|"]
+    lines += [f"| {r['method']} | {capsules} | {level} | {tolerance:.0e} | "
+              f"{r['seconds_per_step']:.2f} | {r['setup_seconds']:.2f} |" for r in rows]
+    save(f"step_M{capsules}_L{level}" + suffix(methods), rows, "\n".join(lines) + "\n")
+
+
+def suffix(methods):
+    """'' for every method, else '_' + the methods: a partial study keeps the full one."""
+    return "" if set(methods) == set(MARKERS) else "_" + "_".join(methods)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("study", choices=["accuracy", "speed", "scaling"])
+    p.add_argument("study", choices=["accuracy", "speed", "scaling", "step"])
     p.add_argument("--capsules", type=int, default=27)
     p.add_argument("--mesh-level", type=int, default=3)
+    p.add_argument("--methods", default="spectral,direct,patches",
+                   help="comma-separated methods for accuracy, speed and step")
     a = p.parse_args()
+    methods = a.methods.split(",")
     if a.study == "accuracy":
-        accuracy(a.capsules, a.mesh_level)
+        accuracy(a.capsules, a.mesh_level, methods)
     elif a.study == "speed":
-        speed(a.capsules, a.mesh_level)
+        speed(a.capsules, a.mesh_level, methods)
+    elif a.study == "step":
+        step(a.capsules, a.mesh_level, methods)
     else:
         scaling(a.mesh_level)
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Speed benchmarks (never part of the tests). Writes JSON, Markdown tables and plots to
 # results/benchmarks/. Run on an otherwise idle machine, after scripts/setup.sh.
-#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|scaling|all]
+#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|scaling|step|all]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 mkdir -p results/benchmarks
@@ -24,5 +24,9 @@ if run ewald-speed; then # seconds per evaluation against error
 fi
 if run scaling; then # 1e4 to 1e6 sources
   $py benchmarks/ewald_report.py scaling --mesh-level 3
+fi
+if run step; then # seconds per RK2 step of a run, with and without patches
+  $py benchmarks/ewald_report.py step --capsules 27 --mesh-level 3
+  $py benchmarks/ewald_report.py step --capsules 100 --mesh-level 3 --methods spectral,patches
 fi
 echo "benchmarks: results in results/benchmarks/"

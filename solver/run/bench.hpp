@@ -17,7 +17,7 @@ struct BenchOptions {
   double strain = 0.0;
   int seed = 1;
   double xi = 0;              // 0: the automatic choice of `capsim run`
-  int repeats = 3;            // timed evaluations (after one untimed warm-up)
+  int repeats = 3;            // timed evaluations (spectral: after an untimed warm-up)
   std::string reference_file; // cache of the reference velocities ("" = none)
   bool reference = true;      // false: no reference, no rel_error
 };
