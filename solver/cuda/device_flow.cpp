@@ -24,6 +24,9 @@ struct DeviceFlow::Impl {
   DeviceArray<double> area;
   DeviceArray<TriangleLoad> loads;
   DeviceArray<cuda::TriangleBounds> bounds;
+  // The real-space sums' bins (cell_bins.hpp): sources and triangle centroids.
+  DeviceArray<int> bin_key, src_order, src_start, tri_order, tri_start;
+  DeviceArray<Vec3> bin_scratch, y_binned, f_binned, centroid, centroid_binned;
   // The periodic box and Spectral Ewald (grid of 3 components, their spectra, plans).
   PeriodicBox box;
   SpreadGrid spread;
@@ -34,6 +37,7 @@ struct DeviceFlow::Impl {
   void compute_traction(const Vec3* xd);
   void compute_velocity(const Vec3* xd, double t, Vec3* ud);
   void add_reciprocal(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
+  void add_real_space(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
 };
 
 namespace {
@@ -112,8 +116,13 @@ DeviceFlow::DeviceFlow(const Membrane& membrane, int num_capsules, double shear_
   const size_t n = size_t(s.mesh.num_nodes()), nt = size_t(s.mesh.num_triangles());
   for (auto* a : {&s.x, &s.xs, &s.u0, &s.u1, &s.q})
     a->resize(n);
-  for (auto* a : {&s.corner_grad, &s.y, &s.f})
+  for (auto* a : {&s.corner_grad, &s.y, &s.f, &s.y_binned, &s.f_binned, &s.bin_scratch})
     a->resize(3 * nt);
+  s.bin_key.resize(3 * nt);
+  s.src_order.resize(3 * nt);
+  s.tri_order.resize(nt);
+  s.centroid.resize(nt);
+  s.centroid_binned.resize(nt);
   s.area.resize(nt);
   s.loads.resize(nt);
   s.bounds.resize(nt);
@@ -149,6 +158,39 @@ void DeviceFlow::Impl::add_reciprocal(const ShearedLattice& g, const Vec3* xd, V
                ud);
 }
 
+// The screened far sum and the near corrections through bins of width r_cut and of the
+// near distance (cell lists: O(N) work); in boxes too small for the 5 x 3 x 3 stencil,
+// the all-pairs kernels.
+void DeviceFlow::Impl::add_real_space(const ShearedLattice& g, const Vec3* xd, Vec3* ud) {
+  const int n = mesh.num_nodes(), m = int(y.size()), nt = mesh.num_triangles();
+  const int src_bins = bins_per_side(g.L, box.ewald.r_cut);
+  if (bins_usable(src_bins)) {
+    src_start.resize(size_t(src_bins) * src_bins * src_bins + 1);
+    cuda::bin_points(g, src_bins, m, y.data(), bin_key.data(), src_order.data(),
+                     bin_scratch.data(), y_binned.data(), src_start.data());
+    cuda::gather_by_order(m, src_order.data(), f.data(), f_binned.data());
+    cuda::binned_screened_sum({g, src_bins, src_start.data()}, box.ewald.xi,
+                              box.ewald.r_cut, n, xd, y_binned.data(), f_binned.data(),
+                              ud);
+  } else {
+    cuda::screened_far_sum(g, box.ewald.xi, box.ewald.r_cut, n, xd, m, y.data(), f.data(),
+                           ud);
+  }
+  const double near = rule.far_ratio * cuda::max_diameter(nt, bounds.data());
+  const int tri_bins = bins_per_side(g.L, near);
+  if (bins_usable(tri_bins)) {
+    tri_start.resize(size_t(tri_bins) * tri_bins * tri_bins + 1);
+    cuda::centroids_of(nt, bounds.data(), centroid.data());
+    cuda::bin_points(g, tri_bins, nt, centroid.data(), bin_key.data(), tri_order.data(),
+                     bin_scratch.data(), centroid_binned.data(), tri_start.data());
+    cuda::binned_near_corrections({g, tri_bins, tri_start.data()}, mesh, xd,
+                                  tri_order.data(), centroid_binned.data(), loads.data(),
+                                  rule, ud);
+  } else {
+    cuda::periodic_near_corrections(g, mesh, xd, loads.data(), rule, ud);
+  }
+}
+
 void DeviceFlow::Impl::compute_velocity(const Vec3* xd, double t, Vec3* ud) {
   compute_traction(xd);
   cuda::triangle_sources(mesh, xd, q.data(), loads.data(), bounds.data(), y.data(),
@@ -156,9 +198,7 @@ void DeviceFlow::Impl::compute_velocity(const Vec3* xd, double t, Vec3* ud) {
   const int n = mesh.num_nodes(), m = int(y.size());
   if (box.L > 0) {
     const ShearedLattice g = make_sheared_lattice(box.L, shear_rate * t);
-    cuda::screened_far_sum(g, box.ewald.xi, box.ewald.r_cut, n, xd, m, y.data(), f.data(),
-                           ud);
-    cuda::periodic_near_corrections(g, mesh, xd, loads.data(), rule, ud);
+    add_real_space(g, xd, ud);
     add_reciprocal(g, xd, ud);
   } else {
     cuda::free_far_sum(n, xd, m, y.data(), f.data(), ud);

@@ -4,6 +4,7 @@
 // C++. Every kernel is a loop over targets or sources around a host-device function of
 // membrane/ or stokes/; all run on the default stream, in order.
 #include "membrane/neo_hookean.hpp"
+#include "stokes/cell_bins.hpp"
 #include "stokes/element_integrals.hpp"
 #include "stokes/near_corrections.hpp"
 #include "stokes/sheared_lattice.hpp"
@@ -63,6 +64,28 @@ void screened_far_sum(const ShearedLattice& g, double xi, double r_cut, int n,
 void periodic_near_corrections(const ShearedLattice& g, const MeshView& mesh,
                                const Vec3* x, const TriangleLoad* loads, NearRule rule,
                                Vec3* u);
+
+// u[i] = the screened real-space sum at x_i over binned sources (binned_sums.hpp; ys, fs
+// in bin order, bins at least r_cut wide).
+void binned_screened_sum(const CellBins& b, double xi, double r_cut, int n, const Vec3* x,
+                         const Vec3* ys, const Vec3* fs, Vec3* u);
+// u[i] += the near corrections at x_i of the binned triangle images near it (entry j:
+// triangle tri[j], centroid wrapped to wc[j]).
+void binned_near_corrections(const CellBins& b, const MeshView& mesh, const Vec3* x,
+                             const int* tri, const Vec3* wc, const TriangleLoad* loads,
+                             NearRule rule, Vec3* u);
+
+// --- binning_kernels.cu ----------------------------------------------------------------
+// Bins `count` points p into n^3 cells: order[j] is the point of binned entry j (key and
+// scratch are work space of `count` entries), wrapped[j] its wrapped position, and
+// start (n^3 + 1 entries) the offsets of the cells, as CellBins reads them.
+void bin_points(const ShearedLattice& g, int n, int count, const Vec3* p, int* key,
+                int* order, Vec3* scratch, Vec3* wrapped, int* start);
+// out[j] = in[order[j]]
+void gather_by_order(int count, const int* order, const Vec3* in, Vec3* out);
+// The largest triangle diameter, and the centroids.
+double max_diameter(int count, const TriangleBounds* bounds);
+void centroids_of(int count, const TriangleBounds* bounds, Vec3* out);
 
 // --- spectral_kernels.cu ---------------------------------------------------------------
 // grid[a * m^3 + j] += sum_k g(z_j - y_k) f_k.a (grid zeroed by the caller; atomics).

@@ -3,6 +3,7 @@
 // stokes/stokeslet.hpp, ewald_kernel.hpp and near_corrections.hpp.
 #include "cuda/device_kernels.hpp"
 #include "cuda/launch.cuh"
+#include "stokes/binned_sums.hpp"
 #include "stokes/ewald_kernel.hpp"
 
 namespace capsim::cuda {
@@ -97,7 +98,39 @@ __global__ void periodic_near_kernel(ShearedLattice g, MeshView mesh, const Vec3
   u[i] += sum;
 }
 
+__global__ void binned_screened_kernel(CellBins b, double xi, double r_cut, int n,
+                                       const Vec3* x, const Vec3* ys, const Vec3* fs,
+                                       Vec3* u) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n)
+    u[i] = binned_screened_sum(b, ys, fs, xi, r_cut, x[i]);
+}
+
+__global__ void binned_near_kernel(CellBins b, MeshView mesh, const Vec3* x,
+                                   const int* tri, const Vec3* wc,
+                                   const TriangleLoad* loads, NearRule rule, Vec3* u) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= mesh.num_nodes())
+    return;
+  u[i] += binned_near_corrections(b, tri, wc, loads, rule, x[i],
+                                  [&](int e) { return vertex_of(mesh, i, e); });
+}
+
 } // namespace
+
+void binned_screened_sum(const CellBins& b, double xi, double r_cut, int n, const Vec3* x,
+                         const Vec3* ys, const Vec3* fs, Vec3* u) {
+  binned_screened_kernel<<<blocks_for(n), kBlock>>>(b, xi, r_cut, n, x, ys, fs, u);
+  check_launch("binned_screened_sum");
+}
+
+void binned_near_corrections(const CellBins& b, const MeshView& mesh, const Vec3* x,
+                             const int* tri, const Vec3* wc, const TriangleLoad* loads,
+                             NearRule rule, Vec3* u) {
+  binned_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(b, mesh, x, tri, wc, loads,
+                                                               rule, u);
+  check_launch("binned_near_corrections");
+}
 
 void free_far_sum(int n, const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u) {
   free_far_sum_kernel<<<blocks_for(n), kBlock>>>(n, x, m, y, f, u);
