@@ -178,24 +178,30 @@ TEST_CASE("resume: a numerical blow-up stops with exit 3, keeps the checkpoint a
   fs::remove_all(dir);
 }
 
+namespace {
+
+// Two capsules at phi 0.45 that come within 0.2 of each other near gammadot*t = 1.3
+// (measured), with a contact stop at 0.2.
+const std::vector<std::string> kClosePair = {"run",   "-q",
+                                             "--set", "method=direct",
+                                             "--set", "phi=0.45",
+                                             "--set", "capsules=2",
+                                             "--set", "mesh_level=1",
+                                             "--set", "t_end=4",
+                                             "--set", "t_avg_start=0",
+                                             "--set", "suspension.min_gap=0.05",
+                                             "--set", "suspension.stop_distance=0.2",
+                                             "--set", "output.sample_interval=0.1",
+                                             "--set", "output.checkpoint_interval=10",
+                                             "--set", "threads=1"};
+
+} // namespace
+
 TEST_CASE("resume: a contact stop keeps the samples before it and records \"contact\"",
           "[resume]") {
   fs::path dir = fresh_dir("contact");
-  // Two capsules at phi 0.45 come within 0.2 of each other near gammadot*t = 1.3
-  // (measured): the run stops there and keeps the samples taken before the stop.
-  REQUIRE(run({"run",   "-q",
-               "--set", "method=direct",
-               "--set", "phi=0.45",
-               "--set", "capsules=2",
-               "--set", "mesh_level=1",
-               "--set", "t_end=4",
-               "--set", "t_avg_start=0",
-               "--set", "suspension.min_gap=0.05",
-               "--set", "suspension.stop_distance=0.2",
-               "--set", "output.sample_interval=0.1",
-               "--set", "output.checkpoint_interval=10",
-               "--set", "threads=1",
-               "-o",    dir.string()}) == 3);
+  // The run stops at the contact and keeps the samples taken before it.
+  REQUIRE(run(with(kClosePair, {"-o", dir.string()})) == 3);
   const std::string summary = text_of(dir / "summary.json");
   CHECK(summary.find("\"ended\": \"contact\"") != std::string::npos);
   auto samples = read_timeseries((dir / "timeseries.h5").string());
@@ -215,21 +221,9 @@ TEST_CASE("resume: the same close pair with the repulsion on runs to its end and
   // As in the contact test, with a repulsion of range 0.4 a (force 5 mu gammadot a^2 at
   // contact): it holds the nodes apart beyond the stop distance 0.2 (measured: force 1
   // is too weak and stops by contact).
-  REQUIRE(run({"run",   "-q",
-               "--set", "method=direct",
-               "--set", "phi=0.45",
-               "--set", "capsules=2",
-               "--set", "mesh_level=1",
-               "--set", "t_end=4",
-               "--set", "t_avg_start=0",
-               "--set", "suspension.min_gap=0.05",
-               "--set", "suspension.stop_distance=0.2",
-               "--set", "suspension.repulsion_force=5",
-               "--set", "suspension.repulsion_range=0.4",
-               "--set", "output.sample_interval=0.1",
-               "--set", "output.checkpoint_interval=10",
-               "--set", "threads=1",
-               "-o",    dir.string()}) == 0);
+  REQUIRE(run(with(kClosePair, {"--set", "suspension.repulsion_force=5", "--set",
+                                "suspension.repulsion_range=0.4", "-o", dir.string()})) ==
+          0);
   const std::string summary = text_of(dir / "summary.json");
   CHECK(summary.find("\"ended\": \"t_end\"") != std::string::npos);
   CHECK(summary.find("\"repelled_samples\": 0,") == std::string::npos);
