@@ -51,6 +51,27 @@ def run_row(run_dir, t_start=None, t_end=None):
     return row
 
 
+def stopped_row(run_dir, t_start=None):
+    """The row of a run that stopped before its averaging window: its parameters, how it
+    ended and when (t_end: its last sample), count 0 and NaN for every average."""
+    summary = read_summary(run_dir)
+    p = summary["parameters"]
+    times = read_timeseries(run_dir)["time"]
+    row = {key: float("nan") for key in COLUMNS}
+    row.update({"ca": float(p["ca"]), "phi": float(p["phi"]), "capsules": int(p["capsules"]),
+                "seed": int(p["seed"]), "mesh_level": int(p["mesh_level"]),
+                "t_start": float(summary["t_avg_start"] if t_start is None else t_start),
+                "t_end": float(times.max()) if times.size else 0.0, "count": 0,
+                "intrinsic": int(float(p["phi"]) == 0),
+                "ended": summary.get("ended", "t_end"), "run": str(run_dir)})
+    return row
+
+
+def with_data(rows):
+    """The rows that hold averages (count > 0): not those of runs stopped too early."""
+    return [r for r in rows if r["count"] > 0]
+
+
 def write_table(path, rows, columns=None):
     """Write dict rows as CSV with the given column order (default: the first row's)."""
     columns = list(columns or rows[0].keys())
@@ -111,9 +132,10 @@ def main(argv=None):
             summary = read_summary(_run_dir(run))
             if summary.get("ended", "t_end") == "t_end":
                 raise
-            print(f"tables: left out {_run_dir(run)}: it stopped early "
+            print(f"tables: no averages for {_run_dir(run)}: it stopped early "
                   f"({summary['ended']}: {summary.get('end_message', '')}) and {e}",
                   file=sys.stderr)
+            rows.append(stopped_row(_run_dir(run), t_start))
     write_table(args.out, rows, COLUMNS)
 
 

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402,F401
 import numpy as np  # noqa: E402
 
 from analysis import fits  # noqa: E402
-from analysis.tables import read_table, write_table  # noqa: E402
+from analysis.tables import read_table, with_data, write_table  # noqa: E402
 
 
 def parse_args(description):
@@ -48,25 +48,28 @@ def _span(values, fmt="{:g}"):
 
 
 def footer(rows, t_start=None):
-    """One line: mesh, capsules per box, end time and averaging window of these rows."""
-    susp = [r for r in rows if not r.get("intrinsic")]
-    use = susp or rows
+    """One line: mesh, capsules per box, end time and averaging window of these rows, and
+    the runs that stopped early (averaged up to their stop, or without data)."""
+    finished = [r for r in rows if r.get("ended", "t_end") == "t_end"] or rows
+    susp = [r for r in finished if not r.get("intrinsic")]
+    use = susp or finished
     parts = [f"N_E = {_span([elements(r['mesh_level']) for r in use], '{:d}')}"]
     if susp:
         parts.append(f"M = {_span([int(r['capsules']) for r in susp], '{:d}')}")
-    parts.append(f"gammadot t_e = {_span([round(r['t_end'], 2) for r in use])}")
+    parts.append(f"gammadot t_e = {_span([round(r['t_end'], 1) for r in use])}")
     ts = t_start if t_start is not None else _span([r["t_start"] for r in use])
     parts.append(f"t_s = {ts}")
-    if len(susp) != len(rows):
-        dil = [r for r in rows if r.get("intrinsic")]
+    dil = [r for r in finished if r.get("intrinsic")]
+    if dil and susp:
         parts.append(f"dilute limit: N_E = {_span([elements(r['mesh_level']) for r in dil], '{:d}')}, "
                      f"average over [{_span([r['t_start'] for r in dil])}, "
-                     f"{_span([round(r['t_end'], 2) for r in dil])}]")
+                     f"{_span([round(r['t_end'], 1) for r in dil])}]")
     early = [r for r in rows if r.get("ended", "t_end") != "t_end"]
     if early:
-        parts.append("stopped early (averaged to their stop): " + ", ".join(
+        parts.append("stopped early: " + ", ".join(
             f"Ca {r['ca']:g} phi {r['phi']:g} seed {int(r['seed'])} at {r['t_end']:.2f} "
-            f"({r['ended']})" for r in early))
+            f"({r['ended']}{'' if r['count'] > 0 else ', no data in the window'})"
+            for r in early))
     return "Runs: " + "; ".join(parts)
 
 
@@ -86,9 +89,9 @@ def save(fig, out, rows, caption):
 def grid_rows(path):
     """The grid table split: (dilute rows by Ca, suspension rows by Ca sorted by phi)."""
     rows = read_table(path)
-    dilute = {r["ca"]: r for r in rows if r["intrinsic"]}
+    dilute = {r["ca"]: r for r in with_data(rows) if r["intrinsic"]}
     susp = {}
-    for r in rows:
+    for r in with_data(rows):
         if not r["intrinsic"]:
             susp.setdefault(r["ca"], []).append(r)
     for ca in susp:

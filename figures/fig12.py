@@ -6,11 +6,11 @@ Usage: python figures/fig12.py --out results/figures/fig12 results/boxsize/table
 
 import common
 from analysis.averages import ensemble
-from analysis.tables import read_table
+from analysis.tables import read_table, with_data
 
 
 def main(args):
-    rows = [r for r in read_table(args.inputs[0]) if not r["intrinsic"]]
+    rows = [r for r in with_data(read_table(args.inputs[0])) if not r["intrinsic"]]
     by_m = {}
     for r in rows:
         by_m.setdefault(int(r["capsules"]), []).append(r)

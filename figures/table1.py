@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from analysis.tables import read_table, write_table  # noqa: E402
+from analysis.tables import read_table, with_data, write_table  # noqa: E402
 
 
 def table_rows(runs):
@@ -37,7 +37,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("table")
     args, _ = ap.parse_known_args()
-    runs = [r for r in read_table(args.table) if not r["intrinsic"]]
+    runs = [r for r in with_data(read_table(args.table)) if not r["intrinsic"]]
     rows = table_rows(runs)
     r0 = runs[0]
     out = Path(args.out)

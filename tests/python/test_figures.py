@@ -69,6 +69,24 @@ def test_grid_figures_run(name, grid_table, tmp_path):
     assert run_figure(name, tmp_path, grid_table)
 
 
+def test_a_run_stopped_before_its_window_changes_no_coefficient(tmp_path):
+    # A row as analysis.tables writes it for a run that stopped before t_start: count 0,
+    # NaN averages. The figures leave it out of every plot and fit (and name it below).
+    rows = [synthetic_row(ca, phi) for ca in CAS for phi in [0.0] + PHIS]
+    stopped = {key: float("nan") for key in COLUMNS}
+    stopped.update({"ca": CAS[0], "phi": 0.4, "capsules": 4, "seed": 1, "mesh_level": 2,
+                    "t_start": 10, "t_end": 3.5, "count": 0, "intrinsic": 0,
+                    "ended": "numerical", "run": "synthetic/stopped"})
+    path = tmp_path / "table.csv"
+    write_table(path, rows + [stopped], COLUMNS)
+    out = run_figure("fig05", tmp_path, path)
+    for ca in CAS:
+        (row,) = select(out, panel="b", ca=ca)
+        assert (row["a1"], row["a2"]) == pytest.approx(a_coef(ca))
+    for name in ("fig03", "fig07", "fig10"):
+        assert run_figure(name, tmp_path, path)
+
+
 def test_fig05_recovers_a1_a2_and_krieger_dougherty(grid_table, tmp_path):
     rows = run_figure("fig05", tmp_path, grid_table)
     for ca in CAS:

@@ -159,8 +159,7 @@ def _summary(run_dir, ended, t_avg_start=4.0):
     return run_dir
 
 
-def test_tables_keep_a_stopped_run_and_leave_out_one_stopped_before_its_window(
-        tmp_path, capsys):
+def test_tables_keep_stopped_runs_with_what_they_have(tmp_path, capsys):
     from analysis import tables
     whole = _summary(write_run(tmp_path / "whole", make_series()), "t_end")
     early = {k: v[:4] for k, v in make_series().items()}  # stopped after t = 6
@@ -170,10 +169,13 @@ def test_tables_keep_a_stopped_run_and_leave_out_one_stopped_before_its_window(
     out = tmp_path / "table.csv"
     tables.main(["--out", str(out), str(whole), str(stopped), str(lost)])
     rows = tables.read_table(out)
-    assert [r["ended"] for r in rows] == ["t_end", "contact"]
-    assert rows[0]["t_end"] == 10.0 and rows[1]["t_end"] == 6.0
+    assert [r["ended"] for r in rows] == ["t_end", "contact", "contact"]
+    assert [r["t_end"] for r in rows] == [10.0, 6.0, 2.0]
     assert rows[1]["D"] == pytest.approx((0.4 + 0.6 + 0.6 + 0.8) / 4)
-    assert "left out" in capsys.readouterr().err
+    # The run stopped before its window: its parameters and no averages.
+    assert rows[2]["count"] == 0 and math.isnan(rows[2]["D"]) and rows[2]["phi"] == 0.1
+    assert tables.with_data(rows) == rows[:2]
+    assert "no averages" in capsys.readouterr().err
 
 
 def test_tables_refuse_a_finished_run_without_samples_in_its_window(tmp_path):
