@@ -23,6 +23,9 @@ struct CapsuleColumn {
   h5::Dims shape;
   void (*get)(const CapsuleSample&, double*);
   void (*set)(CapsuleSample&, const double*);
+  // Added after files were first written: an older file lacks it, reads it as zeros,
+  // and gains it (zeros for the rows it holds) when a run resumes.
+  bool added_later = false;
 };
 
 template <double CapsuleSample::*field>
@@ -49,8 +52,8 @@ void set_stresslet(CapsuleSample& c, const double* v) {
 }
 
 template <double CapsuleSample::*field>
-CapsuleColumn scalar(const char* name, const char* units) {
-  return {name, units, {}, get_scalar<field>, set_scalar<field>};
+CapsuleColumn scalar(const char* name, const char* units, bool added_later = false) {
+  return {name, units, {}, get_scalar<field>, set_scalar<field>, added_later};
 }
 
 const std::vector<CapsuleColumn>& capsule_columns() {
@@ -62,7 +65,7 @@ const std::vector<CapsuleColumn>& capsule_columns() {
       scalar<&CapsuleSample::energy>("energy", "Gs a^2"),
       scalar<&CapsuleSample::volume_error>("volume_error", "1"),
       scalar<&CapsuleSample::volume_drift>("volume_drift", "1"),
-      scalar<&CapsuleSample::repelled_nodes>("repelled_nodes", "1"),
+      scalar<&CapsuleSample::repelled_nodes>("repelled_nodes", "1", true),
       {"stresslet", "Gs a^2", {3, 3}, get_stresslet, set_stresslet},
       {"centroid", "a", {3}, get_centroid, set_centroid},
   };
@@ -123,6 +126,10 @@ void write_row(hid_t dataset, const std::string& name, hsize_t row, const T* dat
 }
 
 // Opens a dataset of an existing file and cuts it to its first keep_rows rows.
+bool exists(hid_t file, const std::string& name) {
+  return H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0;
+}
+
 h5::Handle open_truncated(hid_t file, const std::string& name, long keep_rows) {
   h5::Handle dataset = h5::open_dataset(file, name);
   h5::Dims dims = h5::dataset_dims(dataset.get(), name);
@@ -189,8 +196,20 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
                              " capsules, the run has " + std::to_string(num_capsules));
   time = open_truncated(file.get(), "/time", keep_rows);
   step = open_truncated(file.get(), "/step", keep_rows);
-  for (const CapsuleColumn& column : capsule_columns())
+  for (const CapsuleColumn& column : capsule_columns()) {
+    if (column.added_later && !exists(file.get(), column_path(column))) {
+      columns.push_back(create_extendible<double>(file.get(), column_path(column),
+                                                  row_shape(column, num_capsules),
+                                                  column.units));
+      h5::Dims dims{static_cast<hsize_t>(keep_rows)}; // filled with zeros
+      const h5::Dims row = row_shape(column, num_capsules);
+      dims.insert(dims.end(), row.begin(), row.end());
+      h5::check_status(H5Dset_extent(columns.back().get(), dims.data()),
+                       "cannot extend dataset " + column_path(column));
+      continue;
+    }
     columns.push_back(open_truncated(file.get(), column_path(column), keep_rows));
+  }
   rows = keep_rows;
 }
 
@@ -272,6 +291,8 @@ std::vector<Sample> read_timeseries(const std::string& path) {
       samples[i].capsules.resize(m);
     }
     for (const CapsuleColumn& column : capsule_columns()) {
+      if (column.added_later && !exists(file.get(), column_path(column)))
+        continue; // an older file: the field keeps its zero
       const auto values =
           read_rows<double>(file.get(), column_path(column), n, row_shape(column, m));
       const hsize_t width = h5::element_count(column.shape);

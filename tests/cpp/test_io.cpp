@@ -50,6 +50,7 @@ Sample make_sample(int row, int num_capsules, double offset = 0) {
     k.energy = b + 0.5;
     k.volume_error = b + 0.6;
     k.volume_drift = b + 0.65;
+    k.repelled_nodes = b + 0.66;
     k.centroid = {b + 0.7, b + 0.8, b + 0.9};
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
@@ -73,6 +74,7 @@ void require_equal(const Sample& a, const Sample& b) {
     REQUIRE(x.energy == y.energy);
     REQUIRE(x.volume_error == y.volume_error);
     REQUIRE(x.volume_drift == y.volume_drift);
+    REQUIRE(x.repelled_nodes == y.repelled_nodes);
     REQUIRE(x.centroid.x == y.centroid.x);
     REQUIRE(x.centroid.y == y.centroid.y);
     REQUIRE(x.centroid.z == y.centroid.z);
@@ -146,6 +148,33 @@ TEST_CASE("io: timeseries reopened with keep_rows drops later rows") {
   REQUIRE_THROWS_WITH(TimeseriesWriter(path, 3, 2), Contains("capsules"));
   REQUIRE_THROWS_WITH(TimeseriesWriter(dir.file("none.h5"), 2, 0),
                       Contains("none.h5") && Contains("does not exist"));
+}
+
+TEST_CASE("io: a timeseries of an older version (no repelled_nodes) reads as zeros and "
+          "resumes") {
+  TempDir dir;
+  const std::string path = dir.file("timeseries.h5");
+  {
+    TimeseriesWriter writer(path, 2);
+    for (int row = 0; row < 4; ++row)
+      writer.append(make_sample(row, 2));
+  }
+  {
+    h5::Handle file = h5::open_file(path, H5F_ACC_RDWR);
+    REQUIRE(H5Ldelete(file.get(), "/capsule/repelled_nodes", H5P_DEFAULT) >= 0);
+  }
+  std::vector<Sample> samples = read_timeseries(path);
+  REQUIRE(samples.size() == 4);
+  CHECK(samples[3].capsules[1].repelled_nodes == 0);
+  CHECK(samples[3].capsules[1].taylor_D == make_sample(3, 2).capsules[1].taylor_D);
+  {
+    TimeseriesWriter writer(path, 2, 3); // resume at row 3: the column comes back
+    writer.append(make_sample(3, 2, 0.5));
+  }
+  samples = read_timeseries(path);
+  REQUIRE(samples.size() == 4);
+  CHECK(samples[2].capsules[0].repelled_nodes == 0);
+  require_equal(samples[3], make_sample(3, 2, 0.5));
 }
 
 TEST_CASE("io: checkpoint round trip") {
