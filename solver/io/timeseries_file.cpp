@@ -198,11 +198,10 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
   step = open_truncated(file.get(), "/step", keep_rows);
   for (const CapsuleColumn& column : capsule_columns()) {
     if (column.added_later && !exists(file.get(), column_path(column))) {
-      columns.push_back(create_extendible<double>(file.get(), column_path(column),
-                                                  row_shape(column, num_capsules),
-                                                  column.units));
-      h5::Dims dims{static_cast<hsize_t>(keep_rows)}; // filled with zeros
       const h5::Dims row = row_shape(column, num_capsules);
+      columns.push_back(
+          create_extendible<double>(file.get(), column_path(column), row, column.units));
+      h5::Dims dims{static_cast<hsize_t>(keep_rows)}; // filled with zeros
       dims.insert(dims.end(), row.begin(), row.end());
       h5::check_status(H5Dset_extent(columns.back().get(), dims.data()),
                        "cannot extend dataset " + column_path(column));

@@ -28,10 +28,16 @@ constexpr int kMaxMeshLevel = 6;
 // Throws std::invalid_argument for a level outside [kMinMeshLevel, kMaxMeshLevel].
 Icosphere make_icosphere(int level);
 
+// Triangles of an icosphere of this level: 20 * 4^level (also the patch count P of the
+// multipole patches of that level).
+inline int icosphere_triangles(int level) {
+  return 20 << (2 * level);
+}
+
 // The level of an icosphere topology, from its 20 * 4^level triangles.
 inline int icosphere_level(const Topology& topo) {
   int level = 0;
-  while ((20 << (2 * level)) < int(topo.triangles.size()))
+  while (icosphere_triangles(level) < int(topo.triangles.size()))
     ++level;
   return level;
 }

@@ -178,7 +178,7 @@ std::string run_benchmark(const BenchOptions& o) {
   j.field("r_cut", box.ewald.r_cut);
   j.field("k_cut", box.ewald.k_cut);
   if (box.patch_level >= 0)
-    j.field("patches", o.capsules * (20L << (2 * box.patch_level)));
+    j.field("patches", long(o.capsules) * icosphere_triangles(box.patch_level));
   if (box.spectral) {
     j.field("grid", box.grid.grid);
     j.field("support", box.grid.support);

@@ -15,7 +15,7 @@ int patch_level_of(int patches, int mesh_level) {
   if (patches == 1)
     return -1;
   for (int l = 0; l <= mesh_level; ++l)
-    if (patches == (20 << (2 * l)))
+    if (patches == icosphere_triangles(l))
       return l;
   throw ConfigError("--patches: each must be 1 or 20 * 4^l with l <= mesh_level (" +
                     std::to_string(mesh_level) + "), got " + std::to_string(patches));

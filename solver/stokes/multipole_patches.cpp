@@ -10,7 +10,7 @@ std::vector<PatchMoments> patch_moments(const Topology& topo, int mesh_level,
                                         int patch_level, const Vec3* x, const Vec3* q) {
   if (patch_level > mesh_level)
     throw std::invalid_argument("patch level must not exceed the mesh level");
-  const int num = patch_level < 0 ? 1 : 20 << (2 * patch_level);
+  const int num = patch_level < 0 ? 1 : icosphere_triangles(patch_level);
   auto patch_of = [&](int t) {
     return patch_level < 0 ? 0 : parent_triangle(t, mesh_level, patch_level);
   };
