@@ -19,32 +19,59 @@ struct NearRule {
   int gl_n = 0;
 };
 
-// int_T J(x - y) q dA: the polar rule when x is vertex `vertex` (0-2) of t, adaptive
-// subdivision when vertex < 0.
+// The points of int_T J(x - y) q dA (see element_integrals.hpp): the polar rule when x is
+// vertex `vertex` (0-2) of t, adaptive subdivision when vertex < 0.
+template <class Visit>
+CAPSIM_HD void for_each_accurate_point(Vec3 x, int vertex, const TriangleLoad& t,
+                                       const NearRule& r, Visit visit) {
+  if (vertex >= 0)
+    for_each_singular_vertex_point(vertex, t, r.gl_x, r.gl_w, r.gl_n, visit);
+  else
+    for_each_adaptive_point(x, t, r.near_ratio, r.max_depth, visit);
+}
+
+// The points of the free-space correction for a near triangle (the caller decides that
+// it is near): the accurate rule's, then the 3-point rule's with the load negated.
+template <class Visit>
+CAPSIM_HD void for_each_correction_point(Vec3 x, int vertex, const TriangleLoad& t,
+                                         const NearRule& r, Visit visit) {
+  for_each_accurate_point(x, vertex, t, r, visit);
+  for_each_rule_point(x, t, triangle_rule_3(), [&](Vec3 d, Vec3 w) { visit(d, -w); });
+}
+
 CAPSIM_HD Vec3 integrate_accurate(Vec3 x, int vertex, const TriangleLoad& t,
                                   const NearRule& r) {
-  if (vertex >= 0)
-    return integrate_singular_vertex(vertex, t, r.gl_x, r.gl_w, r.gl_n);
-  return integrate_adaptive(x, t, r.near_ratio, r.max_depth);
+  return stokeslet_sum_of(
+      [&](auto visit) { for_each_accurate_point(x, vertex, t, r, visit); });
 }
 
-// Free space: the correction for a near triangle (the caller decides that it is near).
+// Free space: the correction for a near triangle, accurate integral minus 3-point rule.
 CAPSIM_HD Vec3 free_near_correction(Vec3 x, int vertex, const TriangleLoad& t,
                                     const NearRule& r) {
-  return integrate_accurate(x, vertex, t, r) - integrate_regular(x, t, triangle_rule_3());
+  return stokeslet_sum_of(
+      [&](auto visit) { for_each_correction_point(x, vertex, t, r, visit); });
 }
 
-// Sheared periodic box: the correction for the image of `load` moved by the lattice
-// vector `shift`, near x. The real-space and reciprocal Ewald sums together apply the
-// 3-point rule to the whole periodic kernel J^E, so the free-space correction is the
-// right one for every xi (periodic_single_layer.hpp); the polar rule is used only for the
-// triangle's own image (shift exactly 0), at x's vertex `own_vertex` (-1: none).
-CAPSIM_HD Vec3 image_near_correction(Vec3 x, int own_vertex, TriangleLoad load,
-                                     Vec3 shift, const NearRule& r) {
+// Sheared periodic box: the points of the correction for the image of `load` moved by
+// the lattice vector `shift`, near x. The real-space and reciprocal Ewald sums together
+// apply the 3-point rule to the whole periodic kernel J^E, so the free-space correction
+// is the right one for every xi (periodic_single_layer.hpp); the polar rule is used only
+// for the triangle's own image (shift exactly 0), at x's vertex `own_vertex` (-1: none).
+template <class Visit>
+CAPSIM_HD void for_each_image_correction_point(Vec3 x, int own_vertex, TriangleLoad load,
+                                               Vec3 shift, const NearRule& r,
+                                               Visit visit) {
   const bool own = dot(shift, shift) == 0;
   for (auto& v : load.p)
     v += shift;
-  return free_near_correction(x, own ? own_vertex : -1, load, r);
+  for_each_correction_point(x, own ? own_vertex : -1, load, r, visit);
+}
+
+CAPSIM_HD Vec3 image_near_correction(Vec3 x, int own_vertex, const TriangleLoad& load,
+                                     Vec3 shift, const NearRule& r) {
+  return stokeslet_sum_of([&](auto visit) {
+    for_each_image_correction_point(x, own_vertex, load, shift, r, visit);
+  });
 }
 
 // The same for the image of `load` nearest to x, zero unless that image is near.

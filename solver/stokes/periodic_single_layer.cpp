@@ -2,6 +2,7 @@
 
 #include "stokes/ewald_reciprocal.hpp"
 #include "stokes/near_corrections.hpp"
+#include "stokes/pair_buffer.hpp"
 #include "stokes/periodic_cells.hpp"
 #include "stokes/real_space_sum.hpp"
 #include "stokes/triangle_sources.hpp"
@@ -55,19 +56,24 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
   const int n = int(x.size());
   u.assign(n, Vec3{});
   const double t1 = omp_get_wtime();
-#pragma omp parallel for schedule(dynamic, 8)
-  for (int i = 0; i < n; ++i) {
-    Vec3 sum;
-    triangle_cells.for_neighbours(x[i], [&](int t, Vec3 image) {
-      const Vec3 d = x[i] - image;
-      if (dot(d, d) >= near_radius[t] * near_radius[t])
-        return;
-      Vec3 shift = image - centroids[t]; // a lattice vector, up to round-off
-      if (norm(shift) < 1e-9 * lattice.L)
-        shift = {};
-      sum += image_near_correction(x[i], vertex_index(topo, i, t), loads[t], shift, rule);
-    });
-    u[i] = sum;
+#pragma omp parallel
+  {
+    PairBuffer points; // the correction points of all near triangles of one node
+#pragma omp for schedule(dynamic, 8)
+    for (int i = 0; i < n; ++i) {
+      points.n = 0;
+      triangle_cells.for_neighbours(x[i], [&](int t, Vec3 image) {
+        const Vec3 d = x[i] - image;
+        if (dot(d, d) >= near_radius[t] * near_radius[t])
+          return;
+        Vec3 shift = image - centroids[t]; // a lattice vector, up to round-off
+        if (norm(shift) < 1e-9 * lattice.L)
+          shift = {};
+        for_each_image_correction_point(x[i], vertex_index(topo, i, t), loads[t], shift,
+                                        rule, [&](Vec3 r, Vec3 w) { points.push(r, w); });
+      });
+      u[i] = stokeslet_sum(points);
+    }
   }
   const double t2 = omp_get_wtime();
   const long pairs = add_real_space_sum(lattice, far, x, ewald, u);

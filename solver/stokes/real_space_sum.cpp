@@ -2,6 +2,7 @@
 
 #include "common/vector_clones.hpp"
 #include "stokes/ewald_kernel.hpp"
+#include "stokes/pair_buffer.hpp"
 
 namespace capsim {
 
@@ -20,16 +21,6 @@ CAPSIM_VECTOR_CLONES Vec3 screened_sum(size_t n, const double* rx, const double*
 }
 
 namespace {
-
-// Separations r = x - y and loads of the source images within r_cut of one target.
-struct Neighbours {
-  std::vector<double> rx, ry, rz, fx, fy, fz;
-  size_t n = 0;
-  void reserve(size_t m) {
-    for (auto* v : {&rx, &ry, &rz, &fx, &fy, &fz})
-      v->resize(m);
-  }
-};
 
 std::vector<Vec3> point_positions(const FarSources& s) {
   std::vector<Vec3> y(s.size());
@@ -66,7 +57,7 @@ long add_real_space_sum(const ShearedLattice& lattice, const FarSources& s,
   long pairs = 0;
 #pragma omp parallel reduction(+ : pairs)
   {
-    Neighbours b;
+    PairBuffer b; // the source images within r_cut of one target
     b.reserve(1024);
 #pragma omp for schedule(dynamic, 16)
     for (long i = 0; i < n; ++i) {

@@ -3,6 +3,7 @@
 #include "common/vector_clones.hpp"
 #include "stokes/element_integrals.hpp"
 #include "stokes/near_triangles.hpp"
+#include "stokes/pair_buffer.hpp"
 #include "stokes/triangle_sources.hpp"
 
 #include <cmath>
@@ -28,14 +29,6 @@ CAPSIM_VECTOR_CLONES Vec3 far_sum(Vec3 x, const FarSources& s) {
     uz += fz[g] * rinv + rz * rf;
   }
   return {ux, uy, uz};
-}
-
-// Accurate integral of triangle t minus what the far rule already counted for it.
-Vec3 near_correction(Vec3 x, int node, int t_global, const Topology& topo,
-                     const TriangleLoad& load, const QuadratureOptions& o,
-                     const LineRule& gl) {
-  return accurate_single_layer(x, vertex_index(topo, node, t_global), load, o, gl) -
-         integrate_regular(x, load, triangle_rule_3());
 }
 
 } // namespace
@@ -67,14 +60,20 @@ void single_layer_velocity(const Topology& topo, int num_capsules,
   for (int i = 0; i < n; ++i)
     u[i] = far_sum(x[i], far);
   const double t2 = omp_get_wtime();
-#pragma omp parallel for schedule(dynamic, 16)
-  for (int i = 0; i < n; ++i) {
-    Vec3 sum = u[i];
-    for (int k = near.offset[i]; k < near.offset[i + 1]; ++k) {
-      int t = near.triangle[k];
-      sum += near_correction(x[i], i, t, topo, loads[t], opts, gl);
+  const NearRule rule = near_rule(opts, gl);
+#pragma omp parallel
+  {
+    PairBuffer points; // the correction points of all near triangles of one node
+#pragma omp for schedule(dynamic, 16)
+    for (int i = 0; i < n; ++i) {
+      points.n = 0;
+      for (int k = near.offset[i]; k < near.offset[i + 1]; ++k) {
+        const int t = near.triangle[k];
+        for_each_correction_point(x[i], vertex_index(topo, i, t), loads[t], rule,
+                                  [&](Vec3 r, Vec3 w) { points.push(r, w); });
+      }
+      u[i] = (-1.0 / (8.0 * kPi)) * (u[i] + stokeslet_sum(points));
     }
-    u[i] = (-1.0 / (8.0 * kPi)) * sum;
   }
   if (timings) {
     timings->setup += t1 - t0;

@@ -55,8 +55,8 @@ struct SpreadColumn {
 // exp(-2 rate d h)^a exp(-rate a^2 h^2) (Greengard & Lee's fast Gaussian gridding): two
 // exponentials per row instead of P.
 template <class Row>
-CAPSIM_HD void for_each_spread_row(const SpreadGrid& s, const ShearedLattice& g, Vec3 y,
-                                   Row row) {
+CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLattice& g,
+                                          Vec3 y, Row row) {
   const int m = s.m, half = s.support / 2;
   const double h = s.L / m, rate = s.rate;
   const double u2 = y.y / s.L * m, u3 = y.z / s.L * m, u1 = (y.x - g.s * y.y) / s.L * m;
@@ -97,20 +97,25 @@ CAPSIM_HD int fft_wave_number(int m, int i) {
   return i <= m / 2 ? i : i - m;
 }
 
+// The scalar part of the grid multiplier at |k|^2 = k2: (1 + q + 2 q^2) exp(-(1 - eta) q)
+// / k2, q = k^2/(4 xi^2): eq. 2.5's weight with the Gaussian part exp(-eta q) that
+// spreading and gathering supply divided out.
+CAPSIM_HD double spectral_multiplier_weight(double k2, double xi, double eta) {
+  const double q = k2 / (4.0 * xi * xi);
+  return (1.0 + q + 2.0 * q * q) * exp_nonpositive(-(1.0 - eta) * q) / k2;
+}
+
 // The grid multiplier applied to the transformed, spread force f at wave vector k:
-// (I/k^2 - k k/k^4)(1 + q + 2 q^2) exp(-(1 - eta) q) f, q = k^2/(4 xi^2): eq. 2.5's
-// weight with the Gaussian part exp(-eta q) that spreading and gathering supply divided
-// out.
+// weight (I - k k/k^2) f.
 CAPSIM_HD Vec3 spectral_multiplier_apply(Vec3 k, Vec3 f, double xi, double eta) {
-  const double k2 = dot(k, k), q = k2 / (4.0 * xi * xi);
-  const double w = (1.0 + q + 2.0 * q * q) * std::exp(-(1.0 - eta) * q) / k2;
-  return w * (f - (dot(k, f) / k2) * k);
+  const double k2 = dot(k, k);
+  return spectral_multiplier_weight(k2, xi, eta) * (f - (dot(k, f) / k2) * k);
 }
 
 // Scales one mode (i1, i2, i3) of the r2c-transformed grid (i3 <= m/2) in place: the
 // multiplier at k = m1 b1 + m2 b2 + i3 b3 times c, on the real and the imaginary parts of
-// the three components. k = 0 (the mean flow, fixed by the frame) and the Nyquist modes
-// (no symmetric partner) are set to zero.
+// the three components (one weight for both). k = 0 (the mean flow, fixed by the frame)
+// and the Nyquist modes (no symmetric partner) are set to zero.
 CAPSIM_HD void scale_spectral_mode(const ShearedLattice& g, int m, int i1, int i2, int i3,
                                    double xi, double eta, double c, double re[3],
                                    double im[3]) {
@@ -118,15 +123,20 @@ CAPSIM_HD void scale_spectral_mode(const ShearedLattice& g, int m, int i1, int i
   const bool nyquist =
       2 * m1 == m || 2 * m1 == -m || 2 * m2 == m || 2 * m2 == -m || 2 * i3 == m;
   const Vec3 k = reciprocal_point(g, m1, m2, i3);
-  if (nyquist || dot(k, k) == 0) {
+  const double k2 = dot(k, k);
+  if (nyquist || k2 == 0) {
     for (int a = 0; a < 3; ++a)
       re[a] = im[a] = 0;
     return;
   }
-  const Vec3 r = c * spectral_multiplier_apply(k, {re[0], re[1], re[2]}, xi, eta);
-  const Vec3 i = c * spectral_multiplier_apply(k, {im[0], im[1], im[2]}, xi, eta);
-  re[0] = r.x, re[1] = r.y, re[2] = r.z;
-  im[0] = i.x, im[1] = i.y, im[2] = i.z;
+  const double w = c * spectral_multiplier_weight(k2, xi, eta);
+  const double kr = dot(k, {re[0], re[1], re[2]}) / k2;
+  const double ki = dot(k, {im[0], im[1], im[2]}) / k2;
+  const double kc[3] = {k.x, k.y, k.z};
+  for (int a = 0; a < 3; ++a) {
+    re[a] = w * (re[a] - kr * kc[a]);
+    im[a] = w * (im[a] - ki * kc[a]);
+  }
 }
 
 } // namespace capsim

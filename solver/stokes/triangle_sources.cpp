@@ -58,9 +58,4 @@ NearRule near_rule(const QuadratureOptions& o, const LineRule& gl) {
   return r;
 }
 
-Vec3 accurate_single_layer(Vec3 x, int vertex, const TriangleLoad& t,
-                           const QuadratureOptions& o, const LineRule& gl) {
-  return integrate_accurate(x, vertex, t, near_rule(o, gl));
-}
-
 } // namespace capsim

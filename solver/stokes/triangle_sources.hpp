@@ -32,9 +32,4 @@ int vertex_index(const Topology& topo, int node, int t_global);
 // it).
 NearRule near_rule(const QuadratureOptions& o, const LineRule& gl);
 
-// The accurate int J(x - y) q dA over one triangle: the polar rule when x is its vertex
-// `vertex`, adaptive subdivision otherwise.
-Vec3 accurate_single_layer(Vec3 x, int vertex, const TriangleLoad& t,
-                           const QuadratureOptions& o, const LineRule& gl);
-
 } // namespace capsim
