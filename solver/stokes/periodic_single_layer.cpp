@@ -43,11 +43,13 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
   std::vector<Vec3> centroids(num_tri);
   std::vector<double> near_radius(num_tri);
   double max_diam = 0;
+#pragma omp parallel for schedule(static) reduction(max : max_diam)
   for (int t = 0; t < num_tri; ++t) {
     loads[t] = triangle_load(topo, x, q, t);
     centroids[t] = triangle_centroid(loads[t].p);
-    near_radius[t] = quad.far_ratio * triangle_diameter(loads[t].p);
-    max_diam = std::max(max_diam, triangle_diameter(loads[t].p));
+    const double diam = triangle_diameter(loads[t].p);
+    near_radius[t] = quad.far_ratio * diam;
+    max_diam = std::max(max_diam, diam);
   }
   const FarSources far = far_sources(loads);
   const PeriodicCells triangle_cells(lattice, quad.far_ratio * max_diam, centroids);
