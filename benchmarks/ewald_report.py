@@ -91,7 +91,7 @@ def accuracy(capsules, level, methods):
 
 
 def speed(capsules, level, methods):
-    rows = [bench(capsules, level, method, tol, repeats=2 if method == "spectral" else 1)
+    rows = [bench(capsules, level, method, tol, repeats=4 if method == "spectral" else 1)
             for method in methods for tol in SPEED_TOLERANCES[method]]
     lines = ["| method | tolerance | rel. error | s/eval | real space | near | "
              "spreading | FFT | gathering | grid | r_cut |", "|" + "---|" * 11]

@@ -133,8 +133,9 @@ Param time_step() {
 Param ewald_xi() {
   const std::string allowed = "'auto' or a number in (0, 100]";
   return {"ewald.xi", allowed,
-          "Ewald splitting parameter; auto: for spectral r_cut = min(L/5, 1.5 a) but "
-          "xi <= 0.25/h (h the mean edge), for direct the cost balance of the two sums",
+          "Ewald splitting parameter; auto: for spectral the xi of least modelled cost "
+          "(real-space pairs against grid FFTs), for direct the cost balance of the two "
+          "sums",
           [=](RunOptions& o, const std::string& s) {
             if (s == "auto")
               return void(o.ewald.xi = 0);

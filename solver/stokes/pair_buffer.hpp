@@ -20,12 +20,15 @@ struct PairBuffer {
         v->resize(m);
   }
   void push(Vec3 r, Vec3 f) {
-    if (n == rx.size())
-      reserve(2 * n + 64);
+    if (__builtin_expect(n == rx.size(), 0))
+      grow();
     rx[n] = r.x, ry[n] = r.y, rz[n] = r.z;
     fx[n] = f.x, fy[n] = f.y, fz[n] = f.z;
     ++n;
   }
+
+private:
+  __attribute__((noinline)) void grow() { reserve(2 * n + 64); }
 };
 
 // sum_j J(r_j) f_j over the pairs (free-space Stokeslet, stokeslet.hpp), one vectorised

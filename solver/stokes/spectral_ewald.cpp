@@ -32,9 +32,9 @@ int fft_friendly_size(int n) {
 }
 
 // Adds the sources `members` to the interleaved grid (grid[3 j + a]). Per source the
-// column weights times the force are formed once (3 P values); a stencil row that does
-// not wrap around the grid is then one contiguous run of 3 P grid values, a loop the
-// compiler vectorises (wrapping rows, a few per cent, take the indexed path).
+// column weights times the force are formed once (3 P values); when the column does not
+// wrap around the grid, every stencil row is one contiguous run of 3 P grid values, a
+// loop the compiler vectorises (wrapping columns, a few per cent, take the indexed path).
 CAPSIM_VECTOR_CLONES void spread_sources(const SpreadGrid& sg, const ShearedLattice& g,
                                          const FarSources& src,
                                          const std::vector<int>& members, double* grid) {
@@ -42,25 +42,22 @@ CAPSIM_VECTOR_CLONES void spread_sources(const SpreadGrid& sg, const ShearedLatt
   double wf[3 * kMaxSpreadSupport];
   for (int k : members) {
     const Vec3 y{src.y[0][k], src.y[1][k], src.y[2][k]};
-    const double f[3] = {src.f[0][k], src.f[1][k], src.f[2][k]};
-    bool first_row = true;
-    for_each_spread_row(sg, g, y, [&](size_t base, double w, const SpreadColumn& c) {
-      if (first_row) { // the column is the same for every row of this source
-        for (int b = 0; b < P; ++b)
-          for (int a = 0; a < 3; ++a)
-            wf[3 * b + a] = c.weight[b] * f[a];
-        first_row = false;
-      }
-      if (c.index[0] + P <= sg.m) {
+    const SpreadColumn c = spread_column(sg, y);
+    for (int b = 0; b < P; ++b)
+      for (int a = 0; a < 3; ++a)
+        wf[3 * b + a] = c.weight[b] * src.f[a][k];
+    if (c.contiguous)
+      for_each_spread_row(sg, g, y, [&](size_t base, double w) {
         double* row = grid + 3 * (base + c.index[0]);
         for (int j = 0; j < 3 * P; ++j)
           row[j] += w * wf[j];
-        return;
-      }
-      for (int b = 0; b < P; ++b)
-        for (int a = 0; a < 3; ++a)
-          grid[3 * (base + c.index[b]) + a] += w * wf[3 * b + a];
-    });
+      });
+    else
+      for_each_spread_row(sg, g, y, [&](size_t base, double w) {
+        for (int b = 0; b < P; ++b)
+          for (int a = 0; a < 3; ++a)
+            grid[3 * (base + c.index[b]) + a] += w * wf[3 * b + a];
+      });
   }
 }
 
@@ -70,27 +67,23 @@ CAPSIM_VECTOR_CLONES void spread_sources(const SpreadGrid& sg, const ShearedLatt
 CAPSIM_VECTOR_CLONES Vec3 gather_point(const SpreadGrid& sg, const ShearedLattice& g,
                                        const double* grid, Vec3 x) {
   const int P = sg.support;
-  double acc[3 * kMaxSpreadSupport] = {}, column[kMaxSpreadSupport];
-  bool first_row = true;
-  for_each_spread_row(sg, g, x, [&](size_t base, double w, const SpreadColumn& c) {
-    if (first_row) { // the column is the same for every row
-      for (int b = 0; b < P; ++b)
-        column[b] = c.weight[b];
-      first_row = false;
-    }
-    if (c.index[0] + P <= sg.m) {
+  const SpreadColumn c = spread_column(sg, x);
+  double acc[3 * kMaxSpreadSupport] = {};
+  if (c.contiguous)
+    for_each_spread_row(sg, g, x, [&](size_t base, double w) {
       const double* row = grid + 3 * (base + c.index[0]);
       for (int j = 0; j < 3 * P; ++j)
         acc[j] += w * row[j];
-      return;
-    }
-    for (int b = 0; b < P; ++b)
-      for (int a = 0; a < 3; ++a)
-        acc[3 * b + a] += w * grid[3 * (base + c.index[b]) + a];
-  });
+    });
+  else
+    for_each_spread_row(sg, g, x, [&](size_t base, double w) {
+      for (int b = 0; b < P; ++b)
+        for (int a = 0; a < 3; ++a)
+          acc[3 * b + a] += w * grid[3 * (base + c.index[b]) + a];
+    });
   Vec3 sum;
   for (int b = 0; b < P; ++b)
-    sum += column[b] * Vec3{acc[3 * b], acc[3 * b + 1], acc[3 * b + 2]};
+    sum += c.weight[b] * Vec3{acc[3 * b], acc[3 * b + 1], acc[3 * b + 2]};
   return sum;
 }
 

@@ -41,33 +41,42 @@ CAPSIM_HD SpreadGrid make_spread_grid(double L, int m, int support, double xi,
 }
 
 // The column of a stencil along the third grid direction: wrapped indices j3 and the
-// Gaussian factors along it.
+// Gaussian factors along it (the same for every row of the stencil of y).
 struct SpreadColumn {
   int index[kMaxSpreadSupport];
   double weight[kMaxSpreadSupport];
+  bool contiguous; // index[b] = index[0] + b: the column does not wrap around the grid
 };
 
+CAPSIM_HD_INLINE SpreadColumn spread_column(const SpreadGrid& s, Vec3 y) {
+  const int m = s.m;
+  const double h = s.L / m, u3 = y.z / s.L * m;
+  const int c3 = int(std::floor(u3)) - s.support / 2 + 1;
+  SpreadColumn column;
+  for (int b = 0; b < s.support; ++b) {
+    const double dz = (c3 + b - u3) * h;
+    column.index[b] = ((c3 + b) % m + m) % m;
+    column.weight[b] = exp_nonpositive(-s.rate * dz * dz);
+  }
+  column.contiguous = column.index[0] + s.support <= m;
+  return column;
+}
+
 // Visits the P^3 grid points around y as P^2 rows along the third grid direction:
-// row(base, w, column) for the points base + column.index[b] (row-major index
-// (j1 m + j2) m + j3) with Gaussian weights g(z_j - y) = w column.weight[b]. The j1 range
-// is re-centred for every j2, so the stencil follows the sheared cell exactly. Along j1
-// the weights come from the recurrence exp(-rate (d + a h)^2) = exp(-rate d^2)
-// exp(-2 rate d h)^a exp(-rate a^2 h^2) (Greengard & Lee's fast Gaussian gridding): two
-// exponentials per row instead of P.
+// row(base, w) for the points base + column.index[b] (row-major index (j1 m + j2) m + j3)
+// with Gaussian weights g(z_j - y) = w column.weight[b], column = spread_column(s, y).
+// The j1 range is re-centred for every j2, so the stencil follows the sheared cell
+// exactly. Along j1 the weights come from the recurrence exp(-rate (d + a h)^2) =
+// exp(-rate d^2) exp(-2 rate d h)^a exp(-rate a^2 h^2) (Greengard & Lee's fast Gaussian
+// gridding): two exponentials per row instead of P.
 template <class Row>
 CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLattice& g,
                                           Vec3 y, Row row) {
   const int m = s.m, half = s.support / 2;
   const double h = s.L / m, rate = s.rate;
-  const double u2 = y.y / s.L * m, u3 = y.z / s.L * m, u1 = (y.x - g.s * y.y) / s.L * m;
-  const int c2 = int(std::floor(u2)) - half + 1, c3 = int(std::floor(u3)) - half + 1;
+  const double u2 = y.y / s.L * m, u1 = (y.x - g.s * y.y) / s.L * m;
+  const int c2 = int(std::floor(u2)) - half + 1;
   auto wrap = [m](int j) { return ((j % m) + m) % m; };
-  SpreadColumn column;
-  for (int b = 0; b < s.support; ++b) {
-    const double dz = (c3 + b - u3) * h;
-    column.index[b] = wrap(c3 + b);
-    column.weight[b] = exp_nonpositive(-rate * dz * dz);
-  }
   for (int a2 = 0; a2 < s.support; ++a2) {
     const int j2 = c2 + a2;
     const double dy = (j2 - u2) * h, gy = s.scale * exp_nonpositive(-rate * dy * dy);
@@ -78,7 +87,7 @@ CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLatt
     double gx = gy * exp_nonpositive(-rate * d0 * d0);
     const std::size_t j2w = std::size_t(wrap(j2));
     for (int a1 = 0; a1 < s.support; ++a1, gx *= step)
-      row((std::size_t(wrap(c1 + a1)) * m + j2w) * m, gx * s.ramp[a1], column);
+      row((std::size_t(wrap(c1 + a1)) * m + j2w) * m, gx * s.ramp[a1]);
   }
 }
 
@@ -86,7 +95,8 @@ CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLatt
 template <class Visit>
 CAPSIM_HD void for_each_spread_point(const SpreadGrid& s, const ShearedLattice& g, Vec3 y,
                                      Visit visit) {
-  for_each_spread_row(s, g, y, [&](std::size_t base, double w, const SpreadColumn& c) {
+  const SpreadColumn c = spread_column(s, y);
+  for_each_spread_row(s, g, y, [&](std::size_t base, double w) {
     for (int b = 0; b < s.support; ++b)
       visit(base + c.index[b], w * c.weight[b]);
   });
