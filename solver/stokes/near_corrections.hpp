@@ -39,12 +39,6 @@ CAPSIM_HD void for_each_correction_point(Vec3 x, int vertex, const TriangleLoad&
   for_each_rule_point(x, t, triangle_rule_3(), [&](Vec3 d, Vec3 w) { visit(d, -w); });
 }
 
-CAPSIM_HD Vec3 integrate_accurate(Vec3 x, int vertex, const TriangleLoad& t,
-                                  const NearRule& r) {
-  return stokeslet_sum_of(
-      [&](auto visit) { for_each_accurate_point(x, vertex, t, r, visit); });
-}
-
 // Free space: the correction for a near triangle, accurate integral minus 3-point rule.
 CAPSIM_HD Vec3 free_near_correction(Vec3 x, int vertex, const TriangleLoad& t,
                                     const NearRule& r) {
