@@ -27,6 +27,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 from analysis.read_run import read_timeseries  # noqa: E402
+from analysis.rheology import particle_stress  # noqa: E402
 
 OUT = ROOT / "results" / "benchmarks"
 CAPSIM = ROOT / "build" / "capsim"
@@ -65,10 +66,9 @@ def window_statistics(series, time, t_start, t_end, blocks):
 
 
 def case_series(ts, a):
-    """Capsule-averaged D and mu_sp (eq. 4.5: 3 phi/(4 pi Ca) <S_xy>) per sample."""
-    d = ts["D"].mean(axis=1)
-    mu_sp = 3.0 * a.phi / (4.0 * math.pi * a.ca) * ts["stresslet"][:, :, 0, 1].mean(axis=1)
-    return {"D": d, "mu_sp": mu_sp}
+    """Capsule-averaged D and mu_sp (eq. 4.5, Sigma^p_xy / mu gammadot) per sample."""
+    stress = particle_stress(ts["stresslet"].mean(axis=1), a.phi, a.ca)
+    return {"D": ts["D"].mean(axis=1), "mu_sp": stress[:, 0, 1]}
 
 
 def main():

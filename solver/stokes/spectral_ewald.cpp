@@ -157,8 +157,7 @@ void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src)
   std::vector<std::vector<int>> members(slabs);
   for (size_t k = 0; k < src.size(); ++k) {
     const int c3 = int(std::floor(src.y[2][k] / L * m)) - half + 1;
-    const int first = ((c3 % m) + m) % m;
-    members[std::min(slabs - 1, first * slabs / m)].push_back(int(k));
+    members[std::min(slabs - 1, wrap_grid_index(c3, m) * slabs / m)].push_back(int(k));
   }
   auto spread_slab = [&](int slab) {
     spread_sources(spread_grid, g, src, members[slab], grid);

@@ -40,6 +40,11 @@ CAPSIM_HD SpreadGrid make_spread_grid(double L, int m, int support, double xi,
   return s;
 }
 
+// Grid index j (any sign) wrapped into [0, m).
+CAPSIM_HD int wrap_grid_index(int j, int m) {
+  return ((j % m) + m) % m;
+}
+
 // The column of a stencil along the third grid direction: wrapped indices j3 and the
 // Gaussian factors along it (the same for every row of the stencil of y).
 struct SpreadColumn {
@@ -55,7 +60,7 @@ CAPSIM_HD_INLINE SpreadColumn spread_column(const SpreadGrid& s, Vec3 y) {
   SpreadColumn column;
   for (int b = 0; b < s.support; ++b) {
     const double dz = (c3 + b - u3) * h;
-    column.index[b] = ((c3 + b) % m + m) % m;
+    column.index[b] = wrap_grid_index(c3 + b, m);
     column.weight[b] = exp_nonpositive(-s.rate * dz * dz);
   }
   column.contiguous = column.index[0] + s.support <= m;
@@ -76,7 +81,6 @@ CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLatt
   const double h = s.L / m, rate = s.rate;
   const double u2 = y.y / s.L * m, u1 = (y.x - g.s * y.y) / s.L * m;
   const int c2 = int(std::floor(u2)) - half + 1;
-  auto wrap = [m](int j) { return ((j % m) + m) % m; };
   for (int a2 = 0; a2 < s.support; ++a2) {
     const int j2 = c2 + a2;
     const double dy = (j2 - u2) * h, gy = s.scale * exp_nonpositive(-rate * dy * dy);
@@ -85,9 +89,9 @@ CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLatt
     const double d0 = ((c1 - u1) + g.s * (j2 - u2)) * h;
     const double step = std::exp(-2.0 * rate * d0 * h);
     double gx = gy * exp_nonpositive(-rate * d0 * d0);
-    const std::size_t j2w = std::size_t(wrap(j2));
+    const std::size_t j2w = std::size_t(wrap_grid_index(j2, m));
     for (int a1 = 0; a1 < s.support; ++a1, gx *= step)
-      row((std::size_t(wrap(c1 + a1)) * m + j2w) * m, gx * s.ramp[a1]);
+      row((std::size_t(wrap_grid_index(c1 + a1, m)) * m + j2w) * m, gx * s.ramp[a1]);
   }
 }
 
