@@ -116,18 +116,20 @@ constexpr double kBig = 1e5;
 
 Param time_step() {
   const std::string allowed = "'auto' or a number in (0, 1]";
-  return {"dt", allowed,
-          "time step in strain units; auto = dt_safety * Ca * (mean edge of the mesh)",
-          [=](RunOptions& o, const std::string& s) {
-            if (s == "auto")
-              return void(o.dt = 0);
-            bool ok;
-            double v = parse_double(s, ok);
-            if (!ok || !(v > 0 && v <= 1))
-              bad_value("dt", allowed, s);
-            o.dt = v;
-          },
-          [](const RunOptions& o) { return o.dt > 0 ? format_number(o.dt) : "auto"; }};
+  return {
+      "dt", allowed,
+      "time step in strain units; auto = dt_safety * Ca * h / (1 + 4 membrane.bending "
+      "/ h^2), h the mean edge of the mesh",
+      [=](RunOptions& o, const std::string& s) {
+        if (s == "auto")
+          return void(o.dt = 0);
+        bool ok;
+        double v = parse_double(s, ok);
+        if (!ok || !(v > 0 && v <= 1))
+          bad_value("dt", allowed, s);
+        o.dt = v;
+      },
+      [](const RunOptions& o) { return o.dt > 0 ? format_number(o.dt) : "auto"; }};
 }
 
 Param ewald_xi() {
@@ -189,7 +191,7 @@ const std::vector<Param>& parameters() {
       real(
           "dt_safety", {0, 2, true, false},
           [](RunOptions& o) -> double& { return o.dt_safety; },
-          "C in the automatic time step dt = C Ca h"),
+          "C in the automatic time step dt = C Ca h / (1 + 4 membrane.bending / h^2)"),
       real(
           "t_end", {0, kBig, true, false},
           [](RunOptions& o) -> double& { return o.t_end; },
@@ -211,6 +213,11 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.initial_stretch; },
           "initial shape x -> (s x, y/sqrt s, z/sqrt s) of the reference sphere"),
       load_mapping(),
+      real(
+          "membrane.bending", {0, 1, false, false},
+          [](RunOptions& o) -> double& { return o.bending; },
+          "bending modulus kb / (Gs a^2) of a hinge energy that damps element-scale "
+          "folds; 0 = none (the paper's membrane)"),
       real(
           "quadrature.far_ratio", {1, 50, false, false},
           [](RunOptions& o) -> double& { return o.quadrature.far_ratio; },
@@ -315,6 +322,10 @@ void validate_cuda_backend(const RunOptions& o) {
   if (o.phi > 0 && o.method != "spectral")
     throw ConfigError("method: must be spectral with backend: cuda, got '" + o.method +
                       "'");
+  if (o.bending > 0)
+    throw ConfigError("membrane.bending: must be 0 with backend: cuda (bending runs on "
+                      "the CPU only), got " +
+                      format_number(o.bending));
   if (o.suspension.repulsion.on())
     throw ConfigError("suspension.repulsion_force: must be 0 with backend: cuda (the "
                       "repulsion runs on the CPU only), got " +

@@ -179,8 +179,8 @@ void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>
   }
 }
 
-double automatic_time_step(double ca, double mean_edge, double safety) {
-  return safety * ca * mean_edge;
+double automatic_time_step(double ca, double mean_edge, double safety, double bending) {
+  return safety * ca * mean_edge / (1 + 4 * bending / (mean_edge * mean_edge));
 }
 
 } // namespace capsim

@@ -4,6 +4,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
+#include <map>
 #include <stdexcept>
 
 namespace capsim {
@@ -21,12 +22,18 @@ std::string to_string(LoadMapping m) {
   return m == LoadMapping::lumped ? "lumped" : "consistent";
 }
 
-Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs)
-    : topo_(topo), gs_(gs) {
+Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, double kb)
+    : topo_(topo), gs_(gs), kb_(kb) {
   refs_.reserve(topo.triangles.size());
   for (const auto& t : topo.triangles)
     refs_.push_back(
         make_element_reference(reference[t[0]], reference[t[1]], reference[t[2]]));
+  if (kb > 0) {
+    hinges_ = make_hinges(topo);
+    for (const Hinge& h : hinges_)
+      hinge_refs_.push_back(make_hinge_reference(reference[h.a], reference[h.b],
+                                                 reference[h.c], reference[h.d]));
+  }
 }
 
 double Membrane::energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const {
@@ -38,6 +45,15 @@ double Membrane::energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const {
     w += neo_hookean_element(refs_[e], gs_, x[t[0]], x[t[1]], x[t[2]], g);
     for (int k = 0; k < 3; ++k)
       grad[t[k]] += g[k];
+  }
+  for (size_t e = 0; e < hinges_.size(); ++e) {
+    const Hinge& h = hinges_[e];
+    Vec3 g[4];
+    w += bending_hinge(hinge_refs_[e], kb_, x[h.a], x[h.b], x[h.c], x[h.d], g);
+    grad[h.a] += g[0];
+    grad[h.b] += g[1];
+    grad[h.c] += g[2];
+    grad[h.d] += g[3];
   }
   return w;
 }
@@ -65,6 +81,26 @@ Eigen::SparseMatrix<double> mass_matrix(const Topology& topo, const Vec3* x) {
 }
 
 } // namespace
+
+std::vector<Hinge> make_hinges(const Topology& topo) {
+  // The triangle on each side of an edge: (a, b, c) has the directed edge a -> b, its
+  // neighbour across it has b -> a.
+  std::map<std::pair<int, int>, int> opposite; // directed edge -> third node
+  for (const auto& t : topo.triangles)
+    for (int k = 0; k < 3; ++k)
+      opposite[{t[k], t[(k + 1) % 3]}] = t[(k + 2) % 3];
+  std::vector<Hinge> hinges;
+  for (const auto& [edge, c] : opposite) {
+    auto [a, b] = edge;
+    if (a > b)
+      continue; // each edge once
+    auto other = opposite.find({b, a});
+    if (other == opposite.end())
+      throw std::invalid_argument("make_hinges: the mesh is not closed");
+    hinges.push_back({a, b, c, other->second});
+  }
+  return hinges;
+}
 
 void Membrane::nodal_load(const Vec3* x, const std::vector<Vec3>& grad,
                           LoadMapping mapping, std::vector<Vec3>& q) const {

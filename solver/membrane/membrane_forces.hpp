@@ -2,6 +2,7 @@
 // Assembly of the membrane forces of one capsule and the traction jump q that enters the
 // boundary integral (eq. 2.2). Sign (DESIGN.md 1): q_i = (dW/dx_i) / A_i, so that a
 // stretched capsule in quiescent fluid relaxes.
+#include "membrane/bending.hpp"
 #include "membrane/neo_hookean.hpp"
 #include "mesh/icosphere.hpp"
 
@@ -25,10 +26,12 @@ std::string to_string(LoadMapping m);
 
 class Membrane {
 public:
-  // reference: stress-free node positions (the initial sphere of radius a = 1).
-  Membrane(const Topology& topo, const Vec3* reference, double gs);
+  // reference: stress-free node positions (the initial sphere of radius a = 1); gs: the
+  // shear modulus; kb: the bending modulus (membrane/bending.hpp; 0 = none, the paper).
+  Membrane(const Topology& topo, const Vec3* reference, double gs, double kb = 0);
 
-  // Fills grad with dW/dx (size num_nodes) and returns the energy W.
+  // Fills grad with dW/dx (size num_nodes) and returns the energy W (elastic plus
+  // bending).
   double energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const;
   double energy(const Vec3* x) const;
 
@@ -38,6 +41,7 @@ public:
 
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
+  double bending_modulus() const { return kb_; }
   // The reference state of every element (what a device copy of the membrane needs).
   const std::vector<ElementReference>& references() const { return refs_; }
 
@@ -45,6 +49,9 @@ private:
   Topology topo_;
   std::vector<ElementReference> refs_;
   double gs_;
+  double kb_;
+  std::vector<Hinge> hinges_; // empty when kb = 0
+  std::vector<HingeReference> hinge_refs_;
 };
 
 } // namespace capsim

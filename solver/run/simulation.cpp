@@ -70,12 +70,12 @@ class RunLoop {
 public:
   RunLoop(const RunOptions& o, std::string dir, bool quiet)
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
-        membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca),
+        membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
         box_(periodic_box(o, mesh_.topology)),
         flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load, o.quadrature,
               box_, parse_backend(o.backend)) {
-    dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety);
+    dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending);
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
     sample_every_ = steps_for(o.output.sample_interval, dt_);
     checkpoint_every_ = steps_for(o.output.checkpoint_interval, dt_);

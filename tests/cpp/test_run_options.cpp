@@ -26,6 +26,8 @@ TEST_CASE("config: defaults and nested keys", "[config]") {
   CHECK(o.ca == 0.5);
   CHECK(o.dt == 0.01);
   CHECK(o.load == LoadMapping::consistent);
+  CHECK(o.bending == 0); // the paper's membrane has no bending stiffness
+  CHECK(parse_run_options("membrane:\n  bending: 0.05\n", {}).bending == 0.05);
 }
 
 TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
@@ -47,6 +49,8 @@ TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
   CHECK_THAT(error_of("phi: 0.5\n"),
              Catch::Contains("phi: must be a number in [0, 0.45]"));
   CHECK_THAT(error_of("ewald:\n  xi: -1\n"), Catch::Contains("ewald.xi: must be 'auto'"));
+  CHECK_THAT(error_of("membrane:\n  bending: 2\n"),
+             Catch::Contains("membrane.bending: must be a number in [0, 1]"));
   CHECK_THAT(error_of("ca: [1, 2]\n"), Catch::Contains("ca: must be a single value"));
   CHECK_THAT(error_of("ca: 0.2\n  bad indent: [\n"), Catch::Contains("not valid YAML"));
   CHECK_THAT(error_of("", {"ca"}), Catch::Contains("must be key=value"));

@@ -1,0 +1,76 @@
+#pragma once
+// Optional bending resistance of the membrane (off by default: the paper's membrane has
+// none). A membrane without bending stiffness has nothing that resists a fold shorter
+// than the element size; at Ca 0.6 and phi 0.4 the tip of a strongly stretched capsule
+// folds that way and a triangle inverts (docs/suspensions.md). A small bending modulus
+// damps exactly those element-scale modes and leaves the capsule-scale shape almost
+// untouched.
+//
+// Discrete-shells hinge energy (Grinspun et al. 2003) measured from the reference sphere:
+// each interior edge e with dihedral angle theta_e carries
+//   E_e = (kb / 2) w_e (theta_e - theta0_e)^2,   w_e = 3 |e0|^2 / A0_e,
+// with theta0_e, |e0| and A0_e (the area of the two triangles) of the reference state.
+// The weight makes the sum converge with the mesh: for a change of curvature dk alike in
+// every direction it tends to (kb / 2) int (2 dk)^2 dA, the Helfrich energy; in general
+// it tends to a quadratic form in the changes of curvature and stretch that is not
+// exactly Helfrich's (a stretch of a curved surface turns the hinges too), but is the
+// same at every mesh level, so one kb means the same at each
+// (tests/cpp/test_bending.cpp). A uniform inflation bends nothing.
+#include "common/vec3.hpp"
+#include "mesh/icosphere.hpp"
+
+#include <vector>
+
+namespace capsim {
+
+// The two triangles (a, b, c) and (b, a, d) that share the edge a-b, both
+// counter-clockwise seen from outside.
+struct Hinge {
+  int a, b, c, d;
+};
+
+struct HingeReference {
+  double theta0 = 0; // reference dihedral angle
+  double weight = 0; // 3 |e0|^2 / A0
+};
+
+// Every edge of a closed mesh, once.
+std::vector<Hinge> make_hinges(const Topology& topo);
+
+// Signed dihedral angle at the edge a-b: 0 when flat, > 0 where the surface is convex
+// (a sphere's hinges are all positive).
+CAPSIM_HD double dihedral_angle(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+  const Vec3 e = b - a;
+  const Vec3 n1 = cross(e, c - a), n2 = cross(a - b, d - b);
+  return std::atan2(dot(cross(n1, n2), e) / norm(e), dot(n1, n2));
+}
+
+CAPSIM_HD HingeReference make_hinge_reference(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+  const Vec3 e = b - a;
+  const double area = 0.5 * (norm(cross(e, c - a)) + norm(cross(a - b, d - b)));
+  return {dihedral_angle(a, b, c, d), 3.0 * dot(e, e) / area};
+}
+
+// Returns the hinge energy E_e and adds dE_e/dx to grad[0..3] (nodes a, b, c, d). The
+// angle's gradient: moving c along n1 by delta turns its triangle about the edge by
+// delta |e| / |n1|, which flattens a convex hinge; a and b share the rest so that the
+// four gradients sum to zero (translation) (Bridson et al. 2003).
+CAPSIM_HD double bending_hinge(const HingeReference& ref, double kb, Vec3 a, Vec3 b,
+                               Vec3 c, Vec3 d, Vec3 grad[4]) {
+  const Vec3 e = b - a;
+  const Vec3 n1 = cross(e, c - a), n2 = cross(a - b, d - b);
+  const double len = norm(e);
+  const double theta = std::atan2(dot(cross(n1, n2), e) / len, dot(n1, n2));
+  const double k = kb * ref.weight * (theta - ref.theta0); // dE/dtheta
+  const Vec3 m1 = (1.0 / dot(n1, n1)) * n1, m2 = (1.0 / dot(n2, n2)) * n2;
+  const Vec3 dc = -len * m1, dd = -len * m2;
+  const Vec3 da = (-dot(c - b, e) / len) * m1 + (-dot(d - b, e) / len) * m2;
+  const Vec3 db = (dot(c - a, e) / len) * m1 + (dot(d - a, e) / len) * m2;
+  grad[0] += k * da;
+  grad[1] += k * db;
+  grad[2] += k * dc;
+  grad[3] += k * dd;
+  return 0.5 * kb * ref.weight * (theta - ref.theta0) * (theta - ref.theta0);
+}
+
+} // namespace capsim
