@@ -5,9 +5,10 @@ Studies (each writes results/benchmarks/<study>_<case>.json, .md (table) and .pn
   speed     seconds per evaluation against achieved error
   (both for the methods given with --methods: spectral, direct, patches)
   scaling   seconds per evaluation against the number of sources (spectral)
-  step      seconds per RK2 time step of `capsim run` (Ca 0.2, tolerance 1e-4), per method
+  step      seconds per RK2 time step of `capsim run` (Ca 0.2, tolerance 1e-4 or
+            --tolerance), per method
 Usage: .venv/bin/python benchmarks/ewald_report.py STUDY [--capsules M] [--mesh-level N]
-           [--methods spectral,direct,patches]
+           [--methods spectral,direct,patches] [--tolerance T]
 The error reference is direct Ewald at tolerance 1e-10 on the same configuration; it is
 computed once per configuration and cached under results/benchmarks/.
 """
@@ -169,7 +170,10 @@ def step(capsules, level, methods, tolerance=1e-4):
              "|---|---|---|---|---|---|"]
     lines += [f"| {r['method']} | {capsules} | {level} | {tolerance:.0e} | "
               f"{r['seconds_per_step']:.2f} | {r['setup_seconds']:.2f} |" for r in rows]
-    save(f"step_M{capsules}_L{level}" + suffix(methods), rows, "\n".join(lines) + "\n")
+    name = f"step_M{capsules}_L{level}" + suffix(methods)
+    if tolerance != 1e-4:
+        name += f"_tol{tolerance:g}"
+    save(name, rows, "\n".join(lines) + "\n")
 
 
 def suffix(methods):
@@ -184,6 +188,8 @@ def main():
     p.add_argument("--mesh-level", type=int, default=3)
     p.add_argument("--methods", default="spectral,direct,patches",
                    help="comma-separated methods for accuracy, speed and step")
+    p.add_argument("--tolerance", type=float, default=1e-4,
+                   help="step: the Ewald tolerance of the runs (that of `capsim run`: 1e-6)")
     a = p.parse_args()
     methods = a.methods.split(",")
     if a.study == "accuracy":
@@ -191,7 +197,7 @@ def main():
     elif a.study == "speed":
         speed(a.capsules, a.mesh_level, methods)
     elif a.study == "step":
-        step(a.capsules, a.mesh_level, methods)
+        step(a.capsules, a.mesh_level, methods, a.tolerance)
     else:
         scaling(a.mesh_level)
 

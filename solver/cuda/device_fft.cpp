@@ -13,12 +13,12 @@ void cufft_check(cufftResult r, const char* what) {
                              std::to_string(int(r)) + ")");
 }
 
-// Packed batches: the basic layout (no embedding) places component a at a * m^3 in the
-// real array and at a * m^2 (m/2 + 1) in the complex one.
-cufftHandle plan3(int m, cufftType type) {
+// Packed batches: the basic layout (no embedding) places component a at a * m0 m1 m2 in
+// the real array and at a * m0 m1 (m2/2 + 1) in the complex one.
+cufftHandle plan3(const int m[3], cufftType type) {
   cufftHandle h = 0;
-  int n[3] = {m, m, m};
-  const int real = m * m * m, complex = m * m * (m / 2 + 1);
+  int n[3] = {m[0], m[1], m[2]};
+  const int real = m[0] * m[1] * m[2], complex = m[0] * m[1] * (m[2] / 2 + 1);
   const bool r2c = type == CUFFT_D2Z;
   cufft_check(cufftPlanMany(&h, 3, n, nullptr, 1, r2c ? real : complex, nullptr, 1,
                             r2c ? complex : real, type, 3),
@@ -28,7 +28,7 @@ cufftHandle plan3(int m, cufftType type) {
 
 } // namespace
 
-DeviceFft3::DeviceFft3(int m) : forward_(plan3(m, CUFFT_D2Z)) {
+DeviceFft3::DeviceFft3(const int m[3]) : forward_(plan3(m, CUFFT_D2Z)) {
   try {
     backward_ = plan3(m, CUFFT_Z2D);
   } catch (...) {

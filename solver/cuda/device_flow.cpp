@@ -128,11 +128,11 @@ DeviceFlow::DeviceFlow(const Membrane& membrane, int num_capsules, double shear_
   s.bounds.resize(nt);
   s.box = box;
   if (box.L > 0) {
-    const int m = box.grid.grid;
-    s.spread = make_spread_grid(box.L, m, box.grid.support, box.ewald.xi, box.grid.eta);
-    s.grid.resize(3 * size_t(m) * m * m);
-    s.spectrum.resize(3 * 2 * size_t(m) * m * (m / 2 + 1));
-    s.fft = std::make_unique<cuda::DeviceFft3>(m);
+    s.spread = make_spread_grid(box.L, box.grid.grid, box.grid.support, box.ewald.xi,
+                                box.grid.eta);
+    s.grid.resize(3 * grid_points(s.spread));
+    s.spectrum.resize(3 * 2 * spectrum_modes(s.spread));
+    s.fft = std::make_unique<cuda::DeviceFft3>(box.grid.grid);
   }
 }
 
@@ -144,15 +144,14 @@ void DeviceFlow::Impl::compute_traction(const Vec3* xd) {
 }
 
 // The same sequence as the CPU's spectral_ewald.cpp: spread, forward FFT, multiplier
-// (with 8 pi / M^3: the 8 pi / V of eq. 2.3 times V / M^3), backward FFT, gather.
+// (with 8 pi / M^3: the 8 pi / V of eq. 2.3 times V / M^3, M^3 the grid points),
+// backward FFT, gather.
 void DeviceFlow::Impl::add_reciprocal(const ShearedLattice& g, const Vec3* xd, Vec3* ud) {
-  const int m = spread.m;
-  const double n_real = double(m) * m * m;
+  const double n_real = double(grid_points(spread));
   grid.zero();
   cuda::spread(spread, g, int(y.size()), y.data(), f.data(), grid.data());
   fft->forward(grid.data(), spectrum.data());
-  cuda::scale_spectrum(g, m, box.ewald.xi, box.grid.eta, 8.0 * kPi / n_real,
-                       spectrum.data());
+  cuda::scale_spectrum(g, spread, box.ewald.xi, 8.0 * kPi / n_real, spectrum.data());
   fft->backward(spectrum.data(), grid.data());
   cuda::gather(spread, g, mesh.num_nodes(), xd, grid.data(), g.L * g.L * g.L / n_real,
                ud);

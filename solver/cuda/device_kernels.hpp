@@ -88,12 +88,13 @@ double max_diameter(int count, const TriangleBounds* bounds);
 void centroids_of(int count, const TriangleBounds* bounds, Vec3* out);
 
 // --- spectral_kernels.cu ---------------------------------------------------------------
-// grid[a * m^3 + j] += sum_k g(z_j - y_k) f_k.a (grid zeroed by the caller; atomics).
+// grid[a * M^3 + j] += sum_k g(z_j - y_k) f_k.a (M^3 = grid_points(s); grid zeroed by
+// the caller; atomics).
 void spread(const SpreadGrid& s, const ShearedLattice& g, int count, const Vec3* y,
             const Vec3* f, double* grid);
-// Scales the r2c spectra of the three components (interleaved re, im; m^2 (m/2+1) modes
-// per component) by the multiplier times c.
-void scale_spectrum(const ShearedLattice& g, int m, double xi, double eta, double c,
+// Scales the r2c spectra of the three components (interleaved re, im; spectrum_modes(s)
+// modes per component) by the multiplier times c.
+void scale_spectrum(const ShearedLattice& g, const SpreadGrid& s, double xi, double c,
                     double* spectrum);
 // u[i] += cell sum_j g(x_i - z_j) grid(z_j)
 void gather(const SpreadGrid& s, const ShearedLattice& g, int n, const Vec3* x,

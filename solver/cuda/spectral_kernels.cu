@@ -13,7 +13,7 @@ __global__ void spread_kernel(SpreadGrid s, ShearedLattice g, int count, const V
   const int k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= count)
     return;
-  const size_t n_real = size_t(s.m) * s.m * s.m;
+  const size_t n_real = grid_points(s);
   const Vec3 fk = f[k];
   for_each_spread_point(s, g, y[k], [&](size_t j, double w) {
     atomicAdd(grid + j, w * fk.x);
@@ -23,20 +23,20 @@ __global__ void spread_kernel(SpreadGrid s, ShearedLattice g, int count, const V
 }
 
 // One thread per mode of the half spectrum.
-__global__ void scale_spectrum_kernel(ShearedLattice g, int m, double xi, double eta,
-                                      double c, double* spectrum) {
-  const int mh = m / 2 + 1;
-  const size_t n_complex = size_t(m) * m * mh;
+__global__ void scale_spectrum_kernel(ShearedLattice g, SpreadGrid s, double xi, double c,
+                                      double* spectrum) {
+  const int mh = s.m[2] / 2 + 1;
+  const size_t n_complex = spectrum_modes(s);
   const size_t k = size_t(blockIdx.x) * blockDim.x + threadIdx.x;
   if (k >= n_complex)
     return;
-  const int i3 = int(k % mh), i2 = int(k / mh % m), i1 = int(k / mh / m);
+  const int i2 = int(k % mh), i1 = int(k / mh % s.m[1]), i0 = int(k / mh / s.m[1]);
   double re[3], im[3];
   for (int a = 0; a < 3; ++a) {
     re[a] = spectrum[2 * (a * n_complex + k)];
     im[a] = spectrum[2 * (a * n_complex + k) + 1];
   }
-  scale_spectral_mode(g, m, i1, i2, i3, xi, eta, c, re, im);
+  scale_spectral_mode(g, s, i0, i1, i2, xi, c, re, im);
   for (int a = 0; a < 3; ++a) {
     spectrum[2 * (a * n_complex + k)] = re[a];
     spectrum[2 * (a * n_complex + k) + 1] = im[a];
@@ -49,7 +49,7 @@ __global__ void gather_kernel(SpreadGrid s, ShearedLattice g, int n, const Vec3*
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n)
     return;
-  const size_t n_real = size_t(s.m) * s.m * s.m;
+  const size_t n_real = grid_points(s);
   Vec3 sum;
   for_each_spread_point(s, g, x[i], [&](size_t j, double w) {
     sum += w * Vec3{grid[j], grid[n_real + j], grid[2 * n_real + j]};
@@ -65,10 +65,10 @@ void spread(const SpreadGrid& s, const ShearedLattice& g, int count, const Vec3*
   check_launch("spread");
 }
 
-void scale_spectrum(const ShearedLattice& g, int m, double xi, double eta, double c,
+void scale_spectrum(const ShearedLattice& g, const SpreadGrid& s, double xi, double c,
                     double* spectrum) {
-  const long modes = long(m) * m * (m / 2 + 1);
-  scale_spectrum_kernel<<<blocks_for(modes), kBlock>>>(g, m, xi, eta, c, spectrum);
+  const long modes = long(spectrum_modes(s));
+  scale_spectrum_kernel<<<blocks_for(modes), kBlock>>>(g, s, xi, c, spectrum);
   check_launch("scale_spectrum");
 }
 

@@ -180,7 +180,7 @@ std::string run_benchmark(const BenchOptions& o) {
   if (box.patch_level >= 0)
     j.field("patches", long(o.capsules) * icosphere_triangles(box.patch_level));
   if (box.spectral) {
-    j.field("grid", box.grid.grid);
+    j.field("grid", std::vector<double>(box.grid.grid, box.grid.grid + 3));
     j.field("support", box.grid.support);
   }
   j.field("repeats", o.repeats);

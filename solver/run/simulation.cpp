@@ -305,7 +305,8 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   facts.ewald_xi = box_.ewald.xi;
   facts.ewald_r_cut = box_.ewald.r_cut;
   facts.ewald_k_cut = box_.ewald.k_cut;
-  facts.spectral_grid = box_.grid.grid;
+  if (box_.spectral)
+    facts.spectral_grid.assign(box_.grid.grid, box_.grid.grid + 3);
   facts.spectral_support = box_.grid.support;
   double t_final = samples.empty() ? 0.0 : samples.back().time;
   write_summary_json(dir_ + "/summary.json", o_,

@@ -4,6 +4,7 @@
 #include "diagnostics/averages.hpp"
 
 #include <string>
+#include <vector>
 
 namespace capsim {
 
@@ -14,7 +15,8 @@ struct SummaryFacts {
   bool resumed = false;
   double box_side = 0; // periodic box side L; 0 in the dilute limit
   double ewald_xi = 0, ewald_r_cut = 0, ewald_k_cut = 0;
-  int spectral_grid = 0, spectral_support = 0; // 0 for the direct method
+  std::vector<double> spectral_grid; // M_x, M_y, M_z; empty for the direct method
+  int spectral_support = 0;          // 0 for the direct method
   std::string ended = "t_end"; // or the SimulationError kind: "contact", "numerical"
   std::string end_message;     // why it stopped early; empty for "t_end"
 };

@@ -94,16 +94,17 @@ SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& e
   SpectralParameters p;
   p.support = std::max(4, int(std::ceil(-2.0 * std::log(tolerance) / kPi)) + 1);
   p.support += p.support % 2; // even: the stencil is centred on the point (odd P is not)
-  // |k| < k_cut needs |m1|, |m3| <= k_cut L / 2 pi and |m2| <= 1.5 k_cut L / 2 pi
-  // (shear).
-  const int m_max = int(std::ceil(1.5 * ewald.k_cut * L / (2.0 * kPi)));
-  p.grid = fft_friendly_size(std::max(2 * m_max + 2, p.support + 2));
-  const double h = L / p.grid, w = p.support * h / 2.0;
-  const double m = 0.976 * std::sqrt(kPi * p.support);
-  p.eta = std::pow(2.0 * w * ewald.xi / m, 2);
-  if (!(p.eta > 0 && p.eta < 1))
-    throw std::invalid_argument(
-        "spectral Ewald: eta out of (0, 1); raise the tolerance or xi");
+  const double n_cut = ewald.k_cut * L / (2.0 * kPi),
+               m = 0.976 * std::sqrt(kPi * p.support);
+  for (int d = 0; d < 3; ++d) {
+    const int n_max = int(std::ceil((d == 1 ? 1.5 : 1.0) * n_cut)); // y: the shear
+    p.grid[d] = fft_friendly_size(std::max(2 * n_max + 2, p.support + 2));
+    const double w = p.support * (L / p.grid[d]) / 2.0;
+    p.eta[d] = std::pow(2.0 * w * ewald.xi / m, 2);
+    if (!(p.eta[d] > 0 && p.eta[d] < 1))
+      throw std::invalid_argument(
+          "spectral Ewald: eta out of (0, 1); raise the tolerance or xi");
+  }
   return p;
 }
 
@@ -118,10 +119,11 @@ double spectral_xi(double L, double tolerance, long nodes, long points) {
   for (double r_cut = L / 2.0; r_cut >= 0.2; r_cut *= 0.95) {
     const double x_cut = choose_ewald_parameters(L, tolerance, 1.0).r_cut;
     const EwaldParameters e = choose_ewald_parameters(L, tolerance, x_cut / r_cut);
-    const double m = choose_spectral_parameters(L, e, tolerance).grid;
+    const SpectralParameters p = choose_spectral_parameters(L, e, tolerance);
+    const double points = double(p.grid[0]) * p.grid[1] * p.grid[2];
     const double pairs = double(nodes) * density * 4.0 / 3.0 * kPi * std::pow(r_cut, 3);
     const double cost =
-        kPairSeconds * pairs + kFftSeconds * 6.0 * m * m * m * std::log2(m * m * m);
+        kPairSeconds * pairs + kFftSeconds * 6.0 * points * std::log2(points);
     if (best_xi == 0 || cost < best_cost)
       best_xi = e.xi, best_cost = cost;
   }
@@ -149,7 +151,7 @@ struct SpectralEwald::Impl {
 // concurrently, then odd ones. Each grid value receives its terms in the same order
 // whatever the number of threads.
 void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src) const {
-  const int m = p.grid, half = p.support / 2;
+  const int m = p.grid[2], half = p.support / 2;
   int slabs = m / p.support;
   slabs -= slabs % 2; // an even count: the last slab's neighbour, slab 0, is even
   if (slabs < 2)
@@ -173,21 +175,21 @@ void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src)
   }
 }
 
-// Multiplies the transformed grid by (8 pi / V)(V / M^3) J^EII-type kernel with the
-// remaining Gaussian: (I/k^2 - k k/k^4)(1 + q + 2 q^2) exp(-(1 - eta) q), q = k^2/(4
-// xi^2).
+// Multiplies the transformed grid by (8 pi / V)(V / (M_x M_y M_z)) J^EII-type kernel with
+// the remaining Gaussian (spectral_weights.hpp).
 void SpectralEwald::Impl::scale_spectrum(const ShearedLattice& g) {
-  const int m = p.grid, mh = m / 2 + 1;
-  const double c = 8.0 * kPi / double(size_t(m) * m * m);
+  const SpreadGrid& s = spread_grid;
+  const int m1 = s.m[1], mh = s.m[2] / 2 + 1;
+  const double c = 8.0 * kPi / double(grid_points(s));
 #pragma omp parallel for schedule(static)
-  for (int i1 = 0; i1 < m; ++i1)
-    for (int i2 = 0; i2 < m; ++i2)
-      for (int i3 = 0; i3 < mh; ++i3) {
-        const size_t k_index = (size_t(i1) * m + i2) * mh + i3;
+  for (int i0 = 0; i0 < s.m[0]; ++i0)
+    for (int i1 = 0; i1 < m1; ++i1)
+      for (int i2 = 0; i2 < mh; ++i2) {
+        const size_t k_index = (size_t(i0) * m1 + i1) * mh + i2;
         fftw_complex* sk = spectrum + 3 * k_index;
         double re[3] = {sk[0][0], sk[1][0], sk[2][0]};
         double im[3] = {sk[0][1], sk[1][1], sk[2][1]};
-        scale_spectral_mode(g, m, i1, i2, i3, xi, p.eta, c, re, im);
+        scale_spectral_mode(g, s, i0, i1, i2, xi, c, re, im);
         for (int a = 0; a < 3; ++a)
           sk[a][0] = re[a], sk[a][1] = im[a];
       }
@@ -203,16 +205,15 @@ SpectralEwald::SpectralEwald(double L, const EwaldParameters& ewald,
   if (p.support > kMaxSpreadSupport)
     throw std::invalid_argument("spectral Ewald: support above the stencil limit");
   s.spread_grid = make_spread_grid(L, p.grid, p.support, s.xi, p.eta);
-  const int m = p.grid;
-  s.n_real = size_t(m) * m * m;
-  s.n_complex = size_t(m) * m * (m / 2 + 1);
+  s.n_real = grid_points(s.spread_grid);
+  s.n_complex = spectrum_modes(s.spread_grid);
   s.grid = fftw_alloc_real(3 * s.n_real);
   s.spectrum = fftw_alloc_complex(3 * s.n_complex);
   // Planned once (FFTW_ESTIMATE leaves the arrays untouched) for the threads of the run.
   static const bool threads_ready = fftw_init_threads() != 0;
   if (threads_ready)
     fftw_plan_with_nthreads(omp_get_max_threads());
-  const int dims[3] = {m, m, m};
+  const int* dims = p.grid;
   s.forward = fftw_plan_many_dft_r2c(3, dims, 3, s.grid, nullptr, 3, 1, s.spectrum,
                                      nullptr, 3, 1, FFTW_ESTIMATE);
   s.backward = fftw_plan_many_dft_c2r(3, dims, 3, s.spectrum, nullptr, 3, 1, s.grid,
@@ -241,7 +242,7 @@ void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& sr
   s.scale_spectrum(g);
   fftw_execute(s.backward);
   const double t2 = omp_get_wtime();
-  const double cell = g.L * g.L * g.L / double(s.n_real); // V / M^3
+  const double cell = g.L * g.L * g.L / double(s.n_real); // V / (M_x M_y M_z)
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < targets.size(); ++i)
     u[i] += cell * gather_point(s.spread_grid, g, s.grid, targets[i]);

@@ -1,17 +1,22 @@
 #pragma once
 // Spectral Ewald (Lindbo & Tornberg 2011) for the reciprocal-space part of the periodic
 // Stokeslet sum, on the sheared lattice through fractional coordinates. The Gaussian
-// factor exp(-k^2/(4 xi^2)) is split into exp(-(1 - eta) k^2/(4 xi^2)), applied on the
-// grid, and two Gaussians g(r) = (2 xi^2/(pi eta))^(3/2) exp(-2 xi^2 r^2/eta) whose
-// transform is exp(-eta k^2/(8 xi^2)):
-//   1. spread H(z_j) = sum_g f_g g(z_j - y_g) to a uniform M^3 grid in fractional
-//      coordinates (z_j = A j / M, A the lattice vectors), P grid points of support;
+// factor exp(-k^2/(4 xi^2)) is split into exp(-sum_d (1 - eta_d) k_d^2/(4 xi^2)), applied
+// on the grid, and two separable Gaussians g(r) = prod_d (2 xi^2/(pi eta_d))^(1/2)
+// exp(-2 xi^2 r_d^2/eta_d) whose transform is exp(-sum_d eta_d k_d^2/(8 xi^2)):
+//   1. spread H(z_j) = sum_g f_g g(z_j - y_g) to a uniform M_x M_y M_z grid in
+//      fractional coordinates (z_j = A (j / M), A the lattice vectors), P grid points of
+//      support in each direction;
 //   2. FFT; multiply by the Stokes k-space kernel (8 pi / V) J^EII(k) with the remaining
-//      Gaussian exp(-(1 - eta) k^2/(4 xi^2)) in place of exp(-k^2/(4 xi^2)); inverse FFT;
-//   3. gather u(x) = (V / M^3) sum_j g(x - z_j) w_j.
-// Cost O(N P^3 + M^3 log M) instead of O(N K). The stencil weights and the mode scaling
-// are the host-device functions of spectral_weights.hpp, shared with the CUDA backend;
-// this class is the CPU orchestration (parallel spreading, FFTW, gathering).
+//      Gaussian in place of exp(-k^2/(4 xi^2)); inverse FFT;
+//   3. gather u(x) = (V / (M_x M_y M_z)) sum_j g(x - z_j) w_j.
+// Cost O(N P^3 + M^3 log M) instead of O(N K). Only the sheared direction y needs 1.5
+// times the wave numbers of the other two, so the grid is 1.5 times finer in y alone (a
+// cube fine enough for y would be 2.25 times larger; the Gaussian is separable with a
+// width per direction, so its support stays P points in each). The stencil weights and
+// the mode scaling are the host-device functions of spectral_weights.hpp, shared with the
+// CUDA backend; this class is the CPU orchestration (parallel spreading, FFTW,
+// gathering).
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/triangle_sources.hpp"
 
@@ -21,14 +26,16 @@
 namespace capsim {
 
 struct SpectralParameters {
-  int grid = 0;    // M points per direction (even)
-  int support = 0; // P grid points of Gaussian support per direction
-  double eta = 0;  // Gaussian splitting, 0 < eta < 1
+  int grid[3] = {};   // M_d points along x, y (the sheared direction) and z (even)
+  int support = 0;    // P grid points of Gaussian support per direction
+  double eta[3] = {}; // Gaussian splitting per direction, 0 < eta_d < 1
 };
 
-// P from the tolerance (truncation and quadrature errors ~ exp(-pi P / 2)), M from the
+// P from the tolerance (truncation and quadrature errors ~ exp(-pi P / 2)), M_d from the
 // k-space cut-off of `ewald` (the grid must carry every |k| < k_cut of the sheared
-// lattice), eta = (2 w xi / m)^2 with w = P h / 2 and m = 0.976 sqrt(pi P).
+// lattice: |n_x|, |n_z| <= k_cut L / 2 pi, but |n_y| up to 1.5 times that, since k_y =
+// 2 pi (n_y - s n_x) / L with |s| <= 1/2), eta_d = (2 w_d xi / m)^2 with w_d = P h_d / 2
+// and m = 0.976 sqrt(pi P): the same Gaussian in units of each direction's spacing.
 SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& ewald,
                                               double tolerance);
 

@@ -2,11 +2,11 @@
 // Pointwise parts of Spectral Ewald (Lindbo & Tornberg 2011; see spectral_ewald.hpp) on
 // the sheared lattice, host-device so that a GPU backend spreads, scales and gathers with
 // the same weights as the CPU:
-//  - the Gaussian g(r) = (2 xi^2/(pi eta))^(3/2) exp(-2 xi^2 r^2/eta) evaluated at the
-//    P^3 grid points around a point (fractional coordinates, the j1 range re-centred
-//    for every j2 so that the stencil follows the sheared cell);
+//  - the Gaussian g(r) = prod_d (2 xi^2/(pi eta_d))^(1/2) exp(-2 xi^2 r_d^2/eta_d)
+//    evaluated at the P^3 grid points around a point (fractional coordinates, the j0
+//    range re-centred for every j1 so that the stencil follows the sheared cell);
 //  - the Fourier multiplier of the grid: the Stokes k-space kernel with the remaining
-//    Gaussian exp(-(1 - eta) k^2/(4 xi^2)).
+//    Gaussian exp(-sum_d (1 - eta_d) k_d^2/(4 xi^2)).
 #include "common/fast_special.hpp"
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
@@ -19,25 +19,46 @@ namespace capsim {
 // Largest support P the stencils handle (P ~ -2 ln(tol)/pi + 1 is 19 at tol = 1e-12).
 constexpr int kMaxSpreadSupport = 32;
 
+// The grid and its Gaussian. Directions: 0 = x (flow), 1 = y (the sheared direction,
+// which needs more wave numbers: k_y = 2 pi (m2 - s m1) / L), 2 = z; row-major index
+// (j0 m[1] + j1) m[2] + j2. The Gaussian is separable in x, y, z with a rate per
+// direction, g = scale exp(-sum_d rate_d r_d^2), rate_d = 2 xi^2 / eta_d: the same shape
+// in units of each direction's spacing h_d, so P points of support truncate it alike.
 struct SpreadGrid {
   double L = 1;                        // box side
-  int m = 0;                           // grid points per direction
+  int m[3] = {};                       // grid points per direction
   int support = 0;                     // P grid points of Gaussian support per direction
-  double rate = 0;                     // 2 xi^2 / eta: g = scale exp(-rate r^2)
-  double scale = 0;                    // (2 xi^2 / (pi eta))^(3/2)
-  double ramp[kMaxSpreadSupport] = {}; // exp(-rate a^2 h^2), a = 0 .. P-1
+  double h[3] = {};                    // spacing L / m_d
+  double rate[3] = {};                 // 2 xi^2 / eta_d
+  double eta[3] = {};                  // Gaussian splitting per direction, in (0, 1)
+  double scale = 0;                    // prod_d sqrt(rate_d / pi): unit integral
+  double ramp[kMaxSpreadSupport] = {}; // exp(-rate_0 a^2 h_0^2), a = 0 .. P-1
 };
 
-CAPSIM_HD SpreadGrid make_spread_grid(double L, int m, int support, double xi,
-                                      double eta) {
+CAPSIM_HD SpreadGrid make_spread_grid(double L, const int m[3], int support, double xi,
+                                      const double eta[3]) {
   SpreadGrid s;
-  s.L = L, s.m = m, s.support = support;
-  s.rate = 2.0 * xi * xi / eta;
-  s.scale = std::pow(s.rate / 3.14159265358979323846, 1.5);
-  const double h = L / m;
+  s.L = L, s.support = support, s.scale = 1;
+  for (int d = 0; d < 3; ++d) {
+    s.m[d] = m[d];
+    s.h[d] = L / m[d];
+    s.eta[d] = eta[d];
+    s.rate[d] = 2.0 * xi * xi / eta[d];
+    s.scale *= std::sqrt(s.rate[d] / 3.14159265358979323846);
+  }
   for (int a = 0; a < support && a < kMaxSpreadSupport; ++a)
-    s.ramp[a] = std::exp(-s.rate * a * a * h * h);
+    s.ramp[a] = std::exp(-s.rate[0] * a * a * s.h[0] * s.h[0]);
   return s;
+}
+
+// Grid points of the whole grid.
+CAPSIM_HD std::size_t grid_points(const SpreadGrid& s) {
+  return std::size_t(s.m[0]) * s.m[1] * s.m[2];
+}
+
+// Modes of the half spectrum of a real-to-complex transform of the grid.
+CAPSIM_HD std::size_t spectrum_modes(const SpreadGrid& s) {
+  return std::size_t(s.m[0]) * s.m[1] * (s.m[2] / 2 + 1);
 }
 
 // Grid index j (any sign) wrapped into [0, m).
@@ -54,44 +75,46 @@ struct SpreadColumn {
 };
 
 CAPSIM_HD_INLINE SpreadColumn spread_column(const SpreadGrid& s, Vec3 y) {
-  const int m = s.m;
-  const double h = s.L / m, u3 = y.z / s.L * m;
+  const int m = s.m[2];
+  const double h = s.h[2], u3 = y.z / s.L * m;
   const int c3 = int(std::floor(u3)) - s.support / 2 + 1;
   SpreadColumn column;
   for (int b = 0; b < s.support; ++b) {
     const double dz = (c3 + b - u3) * h;
     column.index[b] = wrap_grid_index(c3 + b, m);
-    column.weight[b] = exp_nonpositive(-s.rate * dz * dz);
+    column.weight[b] = exp_nonpositive(-s.rate[2] * dz * dz);
   }
   column.contiguous = column.index[0] + s.support <= m;
   return column;
 }
 
 // Visits the P^3 grid points around y as P^2 rows along the third grid direction:
-// row(base, w) for the points base + column.index[b] (row-major index (j1 m + j2) m + j3)
-// with Gaussian weights g(z_j - y) = w column.weight[b], column = spread_column(s, y).
-// The j1 range is re-centred for every j2, so the stencil follows the sheared cell
-// exactly. Along j1 the weights come from the recurrence exp(-rate (d + a h)^2) =
-// exp(-rate d^2) exp(-2 rate d h)^a exp(-rate a^2 h^2) (Greengard & Lee's fast Gaussian
-// gridding): two exponentials per row instead of P.
+// row(base, w) for the points base + column.index[b] (row-major index (j0 m1 + j1) m2 +
+// j2) with Gaussian weights g(z_j - y) = w column.weight[b], column = spread_column(s,
+// y). The j0 range is re-centred for every j1, so the stencil follows the sheared cell
+// exactly: grid point (j0, j1) lies (j0 - u0) h0 + s (j1 - u1) h1 along x from y. Along
+// j0 the weights come from the recurrence exp(-rate (d + a h)^2) = exp(-rate d^2)
+// exp(-2 rate d h)^a exp(-rate a^2 h^2) (Greengard & Lee's fast Gaussian gridding): two
+// exponentials per row instead of P.
 template <class Row>
 CAPSIM_HD_INLINE void for_each_spread_row(const SpreadGrid& s, const ShearedLattice& g,
                                           Vec3 y, Row row) {
-  const int m = s.m, half = s.support / 2;
-  const double h = s.L / m, rate = s.rate;
-  const double u2 = y.y / s.L * m, u1 = (y.x - g.s * y.y) / s.L * m;
-  const int c2 = int(std::floor(u2)) - half + 1;
-  for (int a2 = 0; a2 < s.support; ++a2) {
-    const int j2 = c2 + a2;
-    const double dy = (j2 - u2) * h, gy = s.scale * exp_nonpositive(-rate * dy * dy);
-    const double centre1 = u1 - g.s * (j2 - u2); // x-offset zero at this j1
-    const int c1 = int(std::floor(centre1)) - half + 1;
-    const double d0 = ((c1 - u1) + g.s * (j2 - u2)) * h;
-    const double step = std::exp(-2.0 * rate * d0 * h);
-    double gx = gy * exp_nonpositive(-rate * d0 * d0);
-    const std::size_t j2w = std::size_t(wrap_grid_index(j2, m));
-    for (int a1 = 0; a1 < s.support; ++a1, gx *= step)
-      row((std::size_t(wrap_grid_index(c1 + a1, m)) * m + j2w) * m, gx * s.ramp[a1]);
+  const int half = s.support / 2;
+  const double h0 = s.h[0], h1 = s.h[1], rate0 = s.rate[0], rate1 = s.rate[1];
+  const double u1 = y.y / h1, u0 = (y.x - g.s * y.y) / h0;
+  const int c1 = int(std::floor(u1)) - half + 1;
+  for (int a1 = 0; a1 < s.support; ++a1) {
+    const int j1 = c1 + a1;
+    const double dy = (j1 - u1) * h1, gy = s.scale * exp_nonpositive(-rate1 * dy * dy);
+    const double shift = g.s * dy; // x of grid point (u0, j1) - x of y
+    const int c0 = int(std::floor(u0 - shift / h0)) - half + 1;
+    const double d0 = (c0 - u0) * h0 + shift;
+    const double step = std::exp(-2.0 * rate0 * d0 * h0);
+    double gx = gy * exp_nonpositive(-rate0 * d0 * d0);
+    const std::size_t j1w = std::size_t(wrap_grid_index(j1, s.m[1]));
+    for (int a0 = 0; a0 < s.support; ++a0, gx *= step)
+      row((std::size_t(wrap_grid_index(c0 + a0, s.m[0])) * s.m[1] + j1w) * s.m[2],
+          gx * s.ramp[a0]);
   }
 }
 
@@ -111,39 +134,42 @@ CAPSIM_HD int fft_wave_number(int m, int i) {
   return i <= m / 2 ? i : i - m;
 }
 
-// The scalar part of the grid multiplier at |k|^2 = k2: (1 + q + 2 q^2) exp(-(1 - eta) q)
-// / k2, q = k^2/(4 xi^2): eq. 2.5's weight with the Gaussian part exp(-eta q) that
-// spreading and gathering supply divided out.
-CAPSIM_HD double spectral_multiplier_weight(double k2, double xi, double eta) {
-  const double q = k2 / (4.0 * xi * xi);
-  return (1.0 + q + 2.0 * q * q) * exp_nonpositive(-(1.0 - eta) * q) / k2;
+// The scalar part of the grid multiplier at wave vector k: (1 + q + 2 q^2) exp(-q) / k^2,
+// q = k^2/(4 xi^2) (eq. 2.5's weight), with the two spread Gaussians' transform
+// exp(-sum_d eta_d k_d^2 / (4 xi^2)) divided out: one exponential of a non-positive
+// argument (every eta_d < 1).
+CAPSIM_HD double spectral_multiplier_weight(Vec3 k, double xi, const double eta[3]) {
+  const double k2 = dot(k, k), c = 1.0 / (4.0 * xi * xi), q = k2 * c;
+  const double left = (1.0 - eta[0]) * k.x * k.x + (1.0 - eta[1]) * k.y * k.y +
+                      (1.0 - eta[2]) * k.z * k.z;
+  return (1.0 + q + 2.0 * q * q) * exp_nonpositive(-left * c) / k2;
 }
 
 // The grid multiplier applied to the transformed, spread force f at wave vector k:
 // weight (I - k k/k^2) f.
-CAPSIM_HD Vec3 spectral_multiplier_apply(Vec3 k, Vec3 f, double xi, double eta) {
+CAPSIM_HD Vec3 spectral_multiplier_apply(Vec3 k, Vec3 f, double xi, const double eta[3]) {
   const double k2 = dot(k, k);
-  return spectral_multiplier_weight(k2, xi, eta) * (f - (dot(k, f) / k2) * k);
+  return spectral_multiplier_weight(k, xi, eta) * (f - (dot(k, f) / k2) * k);
 }
 
-// Scales one mode (i1, i2, i3) of the r2c-transformed grid (i3 <= m/2) in place: the
-// multiplier at k = m1 b1 + m2 b2 + i3 b3 times c, on the real and the imaginary parts of
+// Scales one mode (i0, i1, i2) of the r2c-transformed grid (i2 <= m2/2) in place: the
+// multiplier at k = n0 b1 + n1 b2 + i2 b3 times c, on the real and the imaginary parts of
 // the three components (one weight for both). k = 0 (the mean flow, fixed by the frame)
 // and the Nyquist modes (no symmetric partner) are set to zero.
-CAPSIM_HD void scale_spectral_mode(const ShearedLattice& g, int m, int i1, int i2, int i3,
-                                   double xi, double eta, double c, double re[3],
+CAPSIM_HD void scale_spectral_mode(const ShearedLattice& g, const SpreadGrid& s, int i0,
+                                   int i1, int i2, double xi, double c, double re[3],
                                    double im[3]) {
-  const int m1 = fft_wave_number(m, i1), m2 = fft_wave_number(m, i2);
-  const bool nyquist =
-      2 * m1 == m || 2 * m1 == -m || 2 * m2 == m || 2 * m2 == -m || 2 * i3 == m;
-  const Vec3 k = reciprocal_point(g, m1, m2, i3);
+  const int n0 = fft_wave_number(s.m[0], i0), n1 = fft_wave_number(s.m[1], i1);
+  const bool nyquist = 2 * n0 == s.m[0] || 2 * n0 == -s.m[0] || 2 * n1 == s.m[1] ||
+                       2 * n1 == -s.m[1] || 2 * i2 == s.m[2];
+  const Vec3 k = reciprocal_point(g, n0, n1, i2);
   const double k2 = dot(k, k);
   if (nyquist || k2 == 0) {
     for (int a = 0; a < 3; ++a)
       re[a] = im[a] = 0;
     return;
   }
-  const double w = c * spectral_multiplier_weight(k2, xi, eta);
+  const double w = c * spectral_multiplier_weight(k, xi, s.eta);
   const double kr = dot(k, {re[0], re[1], re[2]}) / k2;
   const double ki = dot(k, {im[0], im[1], im[2]}) / k2;
   const double kc[3] = {k.x, k.y, k.z};

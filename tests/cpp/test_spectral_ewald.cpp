@@ -59,8 +59,9 @@ TEST_CASE("spectral ewald: error tracks the tolerance against direct k-space sum
       std::vector<Vec3> u(set.targets.size());
       se.add_reciprocal(g, set.sources, set.targets, u);
       double err = relative_error(u, ref);
-      INFO("strain " << strain << " tol " << tol << " grid " << p.grid << " support "
-                     << p.support << " eta " << p.eta << ": error " << err);
+      INFO("strain " << strain << " tol " << tol << " grid " << p.grid[0] << " x "
+                     << p.grid[1] << " x " << p.grid[2] << " support " << p.support
+                     << " eta_x " << p.eta[0] << ": error " << err);
       CHECK(err < 5 * tol); // measured: 0.4x to 3x the tolerance
     }
   }
