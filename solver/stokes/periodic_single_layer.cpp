@@ -2,6 +2,7 @@
 
 #include "stokes/ewald_reciprocal.hpp"
 #include "stokes/near_corrections.hpp"
+#include "stokes/near_triangle_cells.hpp"
 #include "stokes/pair_buffer.hpp"
 #include "stokes/periodic_cells.hpp"
 #include "stokes/real_space_sum.hpp"
@@ -41,18 +42,16 @@ void periodic_single_layer_velocity(const Topology& topo, int num_capsules,
   const int num_tri = int(topo.triangles.size()) * num_capsules;
   std::vector<TriangleLoad> loads(num_tri);
   std::vector<Vec3> centroids(num_tri);
-  std::vector<double> near_radius(num_tri);
-  double max_diam = 0;
-#pragma omp parallel for schedule(static) reduction(max : max_diam)
+  std::vector<double> diameter(num_tri), near_radius(num_tri);
+#pragma omp parallel for schedule(static)
   for (int t = 0; t < num_tri; ++t) {
     loads[t] = triangle_load(topo, x, q, t);
     centroids[t] = triangle_centroid(loads[t].p);
-    const double diam = triangle_diameter(loads[t].p);
-    near_radius[t] = quad.far_ratio * diam;
-    max_diam = std::max(max_diam, diam);
+    diameter[t] = triangle_diameter(loads[t].p);
+    near_radius[t] = quad.far_ratio * diameter[t];
   }
   const FarSources far = far_sources(loads);
-  const PeriodicCells triangle_cells(lattice, quad.far_ratio * max_diam, centroids);
+  const NearTriangleCells triangle_cells(lattice, centroids, diameter, quad.far_ratio);
   const LineRule gl = gauss_legendre_01(quad.singular_points);
   const NearRule rule = near_rule(quad, gl);
   const int n = int(x.size());

@@ -1,3 +1,4 @@
+#include "stokes/near_triangle_cells.hpp"
 #include "stokes/periodic_cells.hpp"
 
 #include <catch2/catch.hpp>
@@ -42,6 +43,43 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
         std::sort(found.begin(), found.end());
         CHECK(found == expected);
       }
+    }
+  }
+}
+
+TEST_CASE("near triangle cells: every centroid image within far_ratio times its own "
+          "diameter is found once, long triangles included",
+          "[cells]") {
+  const double L = 7.0, far_ratio = 2.0;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, L), small(0.1, 0.3);
+  std::vector<Vec3> centroids(600);
+  std::vector<double> diameters(600);
+  for (size_t t = 0; t < centroids.size(); ++t) {
+    centroids[t] = {u(rng), u(rng), u(rng)};
+    diameters[t] = t % 100 == 7 ? 2.5 : small(rng); // six long ones: reach 5 > L / 2
+  }
+  for (double strain : {0.0, 0.45}) {
+    ShearedLattice g = make_sheared_lattice(L, strain);
+    NearTriangleCells cells(g, centroids, diameters, far_ratio);
+    for (int k = 0; k < 60; ++k) {
+      Vec3 x{u(rng), u(rng), u(rng)};
+      std::vector<int> found, expected;
+      cells.for_neighbours(x, [&](int t, Vec3 image) {
+        if (norm(image - x) < far_ratio * diameters[t])
+          found.push_back(t);
+      });
+      for (size_t t = 0; t < centroids.size(); ++t) {
+        Vec3 r0 = wrap_to_cell(g, x - centroids[t]);
+        for (int n3 = -2; n3 <= 2; ++n3)
+          for (int n2 = -2; n2 <= 2; ++n2)
+            for (int n1 = -3; n1 <= 3; ++n1)
+              if (norm(r0 + lattice_point(g, n1, n2, n3)) < far_ratio * diameters[t])
+                expected.push_back(int(t));
+      }
+      std::sort(expected.begin(), expected.end());
+      std::sort(found.begin(), found.end());
+      CHECK(found == expected);
     }
   }
 }
