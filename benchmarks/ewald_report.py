@@ -102,7 +102,7 @@ def speed(capsules, level, methods):
             f"| {r['method']} | {r['tolerance']:.0e} | {r['rel_error']:.2e} | "
             f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | {s['near']:.3f} | "
             f"{s.get('spreading', 0):.3f} | {s.get('fft', 0):.3f} | "
-            f"{s.get('gathering', 0):.3f} | {r.get('grid', '-')} | {r['r_cut']:.2f} |")
+            f"{s.get('gathering', 0):.3f} | {grid_text(r)} | {r['r_cut']:.2f} |")
     name = f"speed_M{capsules}_L{level}" + suffix(methods)
     save(name, rows, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -130,7 +130,7 @@ def scaling(level, tolerance=1e-4):
         lines.append(f"| {r['capsules']} | {r['sources']} | {r['nodes']} | "
                      f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | "
                      f"{s['near']:.3f} | {s['spreading']:.3f} | {s['fft']:.3f} | "
-                     f"{s['gathering']:.3f} | {r['grid']} |")
+                     f"{s['gathering']:.3f} | {grid_text(r)} |")
     name = f"scaling_L{level}"
     save(name, {"slope": slope, "runs": rows}, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -174,6 +174,11 @@ def step(capsules, level, methods, tolerance=1e-4):
     if tolerance != 1e-4:
         name += f"_tol{tolerance:g}"
     save(name, rows, "\n".join(lines) + "\n")
+
+
+def grid_text(r):
+    """The spectral grid as M_x x M_y x M_z, '-' for the other methods."""
+    return "x".join(str(int(m)) for m in r["grid"]) if "grid" in r else "-"
 
 
 def suffix(methods):
