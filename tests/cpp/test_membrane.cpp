@@ -3,20 +3,10 @@
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>
-#include <random>
 
 using namespace capsim;
 
 namespace {
-
-std::vector<Vec3> perturbed(const std::vector<Vec3>& x, double amplitude, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amplitude, amplitude);
-  std::vector<Vec3> out = x;
-  for (auto& p : out)
-    p += Vec3{u(rng), u(rng), u(rng)};
-  return out;
-}
 
 // A sphere inflated to radius alpha carries the isotropic neo-Hookean tension
 // tau = Gs (1 - alpha^-6), so Laplace's law gives the normal load |q| = 2 tau / alpha.
@@ -52,21 +42,12 @@ TEST_CASE(
     "[membrane]") {
   Icosphere s = make_icosphere(2);
   Membrane m(s.topology, s.positions.data(), 0.7);
-  auto x = perturbed(testing::stretched(s.positions, 1.3, 0.9, 1.1, 0.4), 0.02, 7);
+  auto x =
+      testing::perturbed(testing::stretched(s.positions, 1.3, 0.9, 1.1, 0.4), 0.02, 7);
   std::vector<Vec3> grad;
   m.energy_gradient(x.data(), grad);
-  const double h = 1e-6;
-  double worst = 0, scale = 0;
-  for (int i = 0; i < s.topology.num_nodes; i += 7) {
-    for (int a = 0; a < 3; ++a) {
-      auto xp = x, xm = x;
-      (&xp[i].x)[a] += h;
-      (&xm[i].x)[a] -= h;
-      double fd = (m.energy(xp.data()) - m.energy(xm.data())) / (2 * h);
-      worst = std::max(worst, std::abs(fd - (&grad[i].x)[a]));
-      scale = std::max(scale, std::abs(fd));
-    }
-  }
+  auto [worst, scale] =
+      testing::gradient_check([&](const Vec3* p) { return m.energy(p); }, x, grad, 7);
   CHECK(worst / scale < 1e-7);
 }
 
@@ -95,7 +76,7 @@ TEST_CASE("membrane: energy and forces are invariant under rigid rotation",
           "[membrane]") {
   Icosphere s = make_icosphere(2);
   Membrane m(s.topology, s.positions.data(), 1.0);
-  auto x = perturbed(testing::stretched(s.positions, 1.2, 0.9, 1.0), 0.01, 3);
+  auto x = testing::perturbed(testing::stretched(s.positions, 1.2, 0.9, 1.0), 0.01, 3);
   const double angle = 0.7;
   auto xr = testing::stretched(x, 1, 1, 1, angle);
   std::vector<Vec3> g, gr;
@@ -118,7 +99,7 @@ TEST_CASE("membrane: consistent and lumped loads give the same total force",
           "[membrane]") {
   Icosphere s = make_icosphere(3);
   Membrane m(s.topology, s.positions.data(), 1.0);
-  auto x = perturbed(testing::stretched(s.positions, 1.2, 0.9, 1.0), 0.005, 5);
+  auto x = testing::perturbed(testing::stretched(s.positions, 1.2, 0.9, 1.0), 0.005, 5);
   std::vector<Vec3> g, ql, qc;
   m.energy_gradient(x.data(), g);
   m.nodal_load(x.data(), g, LoadMapping::lumped, ql);
