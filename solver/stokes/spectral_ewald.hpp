@@ -11,12 +11,11 @@
 //      Gaussian in place of exp(-k^2/(4 xi^2)); inverse FFT;
 //   3. gather u(x) = (V / (M_x M_y M_z)) sum_j g(x - z_j) w_j.
 // Cost O(N P^3 + M^3 log M) instead of O(N K). Only the sheared direction y needs 1.5
-// times the wave numbers of the other two, so the grid is 1.5 times finer in y alone (a
-// cube fine enough for y would be 2.25 times larger; the Gaussian is separable with a
-// width per direction, so its support stays P points in each). The stencil weights and
-// the mode scaling are the host-device functions of spectral_weights.hpp, shared with the
-// CUDA backend; this class is the CPU orchestration (parallel spreading, FFTW,
-// gathering).
+// times the wave numbers of the cut-off; x and z get 1.25 times (a margin against
+// aliasing), so the grid is not a cube, and the Gaussian is separable with a width per
+// direction, so its support stays P points in each. The stencil weights and the mode
+// scaling are the host-device functions of spectral_weights.hpp, shared with the CUDA
+// backend; this class is the CPU orchestration (parallel spreading, FFTW, gathering).
 #include "stokes/periodic_stokeslet.hpp"
 #include "stokes/triangle_sources.hpp"
 
@@ -31,11 +30,12 @@ struct SpectralParameters {
   double eta[3] = {}; // Gaussian splitting per direction, 0 < eta_d < 1
 };
 
-// P from the tolerance (truncation and quadrature errors ~ exp(-pi P / 2)), M_d from the
-// k-space cut-off of `ewald` (the grid must carry every |k| < k_cut of the sheared
-// lattice: |n_x|, |n_z| <= k_cut L / 2 pi, but |n_y| up to 1.5 times that, since k_y =
-// 2 pi (n_y - s n_x) / L with |s| <= 1/2), eta_d = (2 w_d xi / m)^2 with w_d = P h_d / 2
-// and m = 0.976 sqrt(pi P): the same Gaussian in units of each direction's spacing.
+// P from the tolerance (truncation and quadrature errors ~ exp(-pi P / 2)); M_d from the
+// k-space cut-off of `ewald`: the grid must carry every |k| < k_cut of the sheared
+// lattice, |n_x|, |n_z| <= k_cut L / 2 pi but |n_y| up to 1.5 times that, since k_y =
+// 2 pi (n_y - s n_x) / L with |s| <= 1/2; x and z get a 25 % margin (spectral_ewald.cpp).
+// eta_d = (2 w_d xi / m)^2 with w_d = P h_d / 2 and m = 0.976 sqrt(pi P): the same
+// Gaussian in units of each direction's spacing.
 SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& ewald,
                                               double tolerance);
 
