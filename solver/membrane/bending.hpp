@@ -2,9 +2,9 @@
 // Optional bending resistance of the membrane (off by default: the paper's membrane has
 // none). A membrane without bending stiffness has nothing that resists a fold shorter
 // than the element size; at Ca 0.6 and phi 0.4 the tip of a strongly stretched capsule
-// folds that way and a triangle inverts (docs/suspensions.md). A small bending modulus
-// damps exactly those element-scale modes and leaves the capsule-scale shape almost
-// untouched.
+// folds that way and a triangle inverts (docs/suspensions.md). A bending modulus damps
+// those element-scale modes most (their bending rate grows as 1/h^3), but it also
+// stiffens the capsule as a whole: docs/suspensions.md measures by how much.
 //
 // Discrete-shells hinge energy (Grinspun et al. 2003) measured from the reference sphere:
 // each interior edge e with dihedral angle theta_e carries
