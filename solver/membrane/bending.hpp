@@ -37,12 +37,16 @@ struct HingeReference {
 // Every edge of a closed mesh, once.
 std::vector<Hinge> make_hinges(const Topology& topo);
 
+// The angle from the normal n1 to n2 about the edge e (of length len), signed.
+CAPSIM_HD double normal_angle(Vec3 n1, Vec3 n2, Vec3 e, double len) {
+  return std::atan2(dot(cross(n1, n2), e) / len, dot(n1, n2));
+}
+
 // Signed dihedral angle at the edge a-b: 0 when flat, > 0 where the surface is convex
 // (a sphere's hinges are all positive).
 CAPSIM_HD double dihedral_angle(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
   const Vec3 e = b - a;
-  const Vec3 n1 = cross(e, c - a), n2 = cross(a - b, d - b);
-  return std::atan2(dot(cross(n1, n2), e) / norm(e), dot(n1, n2));
+  return normal_angle(cross(e, c - a), cross(a - b, d - b), e, norm(e));
 }
 
 CAPSIM_HD HingeReference make_hinge_reference(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
@@ -60,7 +64,7 @@ CAPSIM_HD double bending_hinge(const HingeReference& ref, double kb, Vec3 a, Vec
   const Vec3 e = b - a;
   const Vec3 n1 = cross(e, c - a), n2 = cross(a - b, d - b);
   const double len = norm(e);
-  const double theta = std::atan2(dot(cross(n1, n2), e) / len, dot(n1, n2));
+  const double theta = normal_angle(n1, n2, e, len);
   const double k = kb * ref.weight * (theta - ref.theta0); // dE/dtheta
   const Vec3 m1 = (1.0 / dot(n1, n1)) * n1, m2 = (1.0 / dot(n2, n2)) * n2;
   const Vec3 dc = -len * m1, dd = -len * m2;

@@ -41,7 +41,6 @@ public:
 
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
-  double bending_modulus() const { return kb_; }
   // The reference state of every element (what a device copy of the membrane needs).
   const std::vector<ElementReference>& references() const { return refs_; }
 
