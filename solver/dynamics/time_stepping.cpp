@@ -2,6 +2,7 @@
 
 #include "cuda/device_flow.hpp"
 #include "mesh/surface_geometry.hpp"
+#include "stokes/ewald_reciprocal.hpp"
 #include "stokes/periodic_single_layer.hpp"
 
 #include <cmath>
@@ -14,15 +15,16 @@ PeriodicBox make_periodic_box(double L, const std::string& method, double tolera
   PeriodicBox box;
   box.L = L;
   box.spectral = method == "spectral";
-  // Patches take the Ewald parameters of the direct method: the two differ only in the
-  // sources of the reciprocal sum. (Balancing for the fewer patch sources would raise xi
-  // and with it the coarse-graining error, which grows like (xi d)^2 for patches of
-  // diameter d.)
+  // Patches keep the xi that balances equal per-term costs for all quadrature points:
+  // balancing for their fewer sources, or for the cheaper reciprocal terms as `direct`
+  // does, would raise xi and with it the coarse-graining error, which grows like
+  // (xi d)^2 for patches of diameter d.
   if (method == "patches")
     box.patch_level = patch_level;
   if (xi <= 0)
-    xi = box.spectral ? spectral_xi(L, tolerance, nodes, points)
-                      : balanced_xi(L, tolerance, nodes, points);
+    xi = box.spectral          ? spectral_xi(L, tolerance, nodes, points)
+         : method == "patches" ? balanced_xi(L, tolerance, nodes, points)
+                               : balanced_xi(L, tolerance, nodes, points, kRealPairCost);
   box.ewald = choose_ewald_parameters(L, tolerance, xi);
   if (box.spectral)
     box.grid = choose_spectral_parameters(L, box.ewald, tolerance);

@@ -44,12 +44,13 @@ EwaldParameters choose_ewald_parameters(double L, double tolerance, double xi) {
   return p;
 }
 
-double balanced_xi(double L, double tolerance, long targets, long sources) {
+double balanced_xi(double L, double tolerance, long targets, long sources,
+                   double pair_cost) {
   EwaldParameters unit = choose_ewald_parameters(L, tolerance, 1.0);
   const double xc = unit.r_cut, qc = unit.k_cut * unit.k_cut / 4.0, v = L * L * L;
   const double t = double(targets), s = double(sources);
-  double xi6 =
-      t * s * kPi * kPi * kPi * xc * xc * xc / ((t + s) * v * v * std::pow(qc, 1.5));
+  double xi6 = pair_cost * t * s * kPi * kPi * kPi * xc * xc * xc /
+               ((t + s) * v * v * std::pow(qc, 1.5));
   return std::max(std::pow(xi6, 1.0 / 6.0), kSqrtPi / L);
 }
 

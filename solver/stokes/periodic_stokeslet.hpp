@@ -21,11 +21,14 @@ struct EwaldParameters {
 EwaldParameters choose_ewald_parameters(double L, double tolerance, double xi = 0);
 
 // The xi that balances the cost of the direct sums for `targets` field points and
-// `sources` quadrature points: real space ~ targets * sources * (4 pi/3) r_cut^3 / V,
-// reciprocal space ~ (targets + sources) * (4 pi/3) (k_cut L / 2 pi)^3; equal when
-// xi^6 = targets sources pi^3 x_c^3 / ((targets + sources) V^2 q_c^(3/2)), with x_c, q_c
-// the dimensionless cut-offs of `tolerance`. Never below sqrt(pi)/L.
-double balanced_xi(double L, double tolerance, long targets, long sources);
+// `sources` quadrature points: real space ~ pair_cost * targets * sources * (4 pi/3)
+// r_cut^3 / V, reciprocal space ~ (targets + sources) * (4 pi/3) (k_cut L / 2 pi)^3, with
+// pair_cost the cost of one real-space pair in units of one (point, wave vector) term;
+// equal when xi^6 = pair_cost targets sources pi^3 x_c^3 / ((targets + sources) V^2
+// q_c^(3/2)), with x_c, q_c the dimensionless cut-offs of `tolerance`. Never below
+// sqrt(pi)/L.
+double balanced_xi(double L, double tolerance, long targets, long sources,
+                   double pair_cost = 1.0);
 
 // Wave vectors of the sheared lattice with 0 < |k| < k_cut.
 std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut);
