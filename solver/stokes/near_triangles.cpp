@@ -10,52 +10,83 @@ int clampi(int v, int lo, int hi) {
   return std::max(lo, std::min(hi, v));
 }
 
+// Triangles `ids` binned by centroid in cells of side `reach` over the box [lo, hi] of
+// the nodes: a node's triangles within reach lie in its own and the 26 neighbouring
+// cells. Centroids outside the box are clamped into the boundary cells, which only makes
+// those cells hold more candidates, never miss one.
+class CentroidBins {
+public:
+  CentroidBins(Vec3 lo, Vec3 hi, double reach, const std::vector<Vec3>& centroids,
+               const std::vector<int>& ids)
+      : lo_(lo), reach_(reach) {
+    const double ext[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+    for (int a = 0; a < 3; ++a)
+      n_[a] = std::max(1, std::min(256, int(ext[a] / reach) + 1));
+    bins_.resize(size_t(n_[0]) * n_[1] * n_[2]);
+    for (int t : ids) {
+      int c[3];
+      cell_of(centroids[t], c);
+      bins_[index(c[0], c[1], c[2])].push_back(t);
+    }
+  }
+
+  template <class Visit> void for_candidates(Vec3 p, Visit visit) const {
+    int c[3];
+    cell_of(p, c);
+    for (int z = std::max(0, c[2] - 1); z <= std::min(n_[2] - 1, c[2] + 1); ++z)
+      for (int y = std::max(0, c[1] - 1); y <= std::min(n_[1] - 1, c[1] + 1); ++y)
+        for (int x = std::max(0, c[0] - 1); x <= std::min(n_[0] - 1, c[0] + 1); ++x)
+          for (int t : bins_[index(x, y, z)])
+            visit(t);
+  }
+
+private:
+  void cell_of(Vec3 p, int c[3]) const {
+    const double r[3] = {p.x - lo_.x, p.y - lo_.y, p.z - lo_.z};
+    for (int a = 0; a < 3; ++a)
+      c[a] = clampi(int(std::floor(r[a] / reach_)), 0, n_[a] - 1);
+  }
+  size_t index(int x, int y, int z) const { return (size_t(z) * n_[1] + y) * n_[0] + x; }
+
+  Vec3 lo_;
+  double reach_;
+  int n_[3];
+  std::vector<std::vector<int>> bins_;
+};
+
 } // namespace
 
 NearLists find_near_triangles(const std::vector<Vec3>& nodes,
                               const std::vector<Vec3>& centroids,
                               const std::vector<double>& diameters, double far_ratio) {
-  double reach = 0;
   Vec3 lo = nodes.front(), hi = nodes.front();
-  for (double d : diameters)
-    reach = std::max(reach, far_ratio * d);
   for (const auto& p : nodes) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  // Cells of side `reach`: a node's near triangles lie in its own and the 26 neighbouring
-  // cells. Centroids outside the node box are clamped into the boundary cells, which only
-  // makes those cells hold more candidates, never miss one.
-  int n[3];
-  double ext[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
-  for (int a = 0; a < 3; ++a)
-    n[a] = std::max(1, std::min(256, int(ext[a] / reach) + 1));
-  auto cell_of = [&](Vec3 p, int c[3]) {
-    double r[3] = {p.x - lo.x, p.y - lo.y, p.z - lo.z};
-    for (int a = 0; a < 3; ++a)
-      c[a] = clampi(int(std::floor(r[a] / reach)), 0, n[a] - 1);
-  };
-  std::vector<std::vector<int>> bins(size_t(n[0]) * n[1] * n[2]);
-  for (size_t t = 0; t < centroids.size(); ++t) {
-    int c[3];
-    cell_of(centroids[t], c);
-    bins[(size_t(c[2]) * n[1] + c[1]) * n[0] + c[0]].push_back(int(t));
-  }
+  // As in the periodic search (near_triangle_cells.hpp): triangles more than twice the
+  // mean diameter, those of a capsule stretched into a thread, get bins of their own with
+  // their longer reach, so that they do not make every node scan most of the capsule.
+  double mean = 0, largest = 0;
+  for (double d : diameters)
+    mean += d / double(diameters.size()), largest = std::max(largest, d);
+  const double split = std::min(largest, 2.0 * mean);
+  std::vector<int> ids[2];
+  for (int t = 0; t < int(diameters.size()); ++t)
+    ids[diameters[t] > split].push_back(t);
+  std::vector<CentroidBins> groups;
+  for (int big = 0; big < 2; ++big)
+    if (!ids[big].empty())
+      groups.emplace_back(lo, hi, far_ratio * (big ? largest : split), centroids,
+                          ids[big]);
   NearLists out;
   out.offset.assign(nodes.size() + 1, 0);
   for (size_t i = 0; i < nodes.size(); ++i) {
-    int c[3];
-    cell_of(nodes[i], c);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-          if (x < 0 || y < 0 || z < 0 || x >= n[0] || y >= n[1] || z >= n[2])
-            continue;
-          for (int t : bins[(size_t(z) * n[1] + y) * n[0] + x])
-            if (norm(nodes[i] - centroids[t]) < far_ratio * diameters[t])
-              out.triangle.push_back(t);
-        }
+    for (const CentroidBins& bins : groups)
+      bins.for_candidates(nodes[i], [&](int t) {
+        if (norm(nodes[i] - centroids[t]) < far_ratio * diameters[t])
+          out.triangle.push_back(t);
+      });
     out.offset[i + 1] = int(out.triangle.size());
   }
   return out;

@@ -1,4 +1,5 @@
 #include "stokes/near_triangle_cells.hpp"
+#include "stokes/near_triangles.hpp"
 #include "stokes/periodic_cells.hpp"
 
 #include <catch2/catch.hpp>
@@ -81,5 +82,32 @@ TEST_CASE("near triangle cells: every centroid image within far_ratio times its 
       std::sort(found.begin(), found.end());
       CHECK(found == expected);
     }
+  }
+}
+
+TEST_CASE("near triangles (free space): every centroid within far_ratio times its own "
+          "diameter is found once, long triangles included",
+          "[cells]") {
+  const double far_ratio = 2.0;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-3.0, 3.0), small(0.1, 0.3);
+  std::vector<Vec3> centroids(500), nodes(80);
+  std::vector<double> diameters(500);
+  for (size_t t = 0; t < centroids.size(); ++t) {
+    centroids[t] = {u(rng), u(rng), 1.5 * u(rng)};  // some outside the node box
+    diameters[t] = t % 100 == 3 ? 2.0 : small(rng); // five long ones
+  }
+  for (Vec3& x : nodes)
+    x = {u(rng), u(rng), u(rng)};
+  const NearLists near = find_near_triangles(nodes, centroids, diameters, far_ratio);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    std::vector<int> found(near.triangle.begin() + near.offset[i],
+                           near.triangle.begin() + near.offset[i + 1]),
+        expected;
+    for (size_t t = 0; t < centroids.size(); ++t)
+      if (norm(nodes[i] - centroids[t]) < far_ratio * diameters[t])
+        expected.push_back(int(t));
+    std::sort(found.begin(), found.end());
+    CHECK(found == expected);
   }
 }
