@@ -27,6 +27,6 @@ if run scaling; then # 1e4 to 1e6 sources
 fi
 if run step; then # seconds per RK2 step of a run, with and without patches
   $py benchmarks/ewald_report.py step --capsules 27 --mesh-level 3
-  $py benchmarks/ewald_report.py step --capsules 100 --mesh-level 3 --methods spectral,patches
+  $py benchmarks/ewald_report.py step --capsules 100 --mesh-level 3
 fi
 echo "benchmarks: results in results/benchmarks/"
