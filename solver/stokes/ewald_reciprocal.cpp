@@ -101,7 +101,13 @@ struct Spectrum {
   std::vector<double> data;
   Spectrum(int channels, int K) : K(K), data(size_t(6 * channels) * K, 0.0) {}
   double* at(int channel, int component, int part) {
-    return data.data() + size_t(2 * (3 * channel + component) + part) * K;
+    return data.data() + offset(channel, component, part);
+  }
+  const double* at(int channel, int component, int part) const {
+    return data.data() + offset(channel, component, part);
+  }
+  size_t offset(int channel, int component, int part) const {
+    return size_t(2 * (3 * channel + component) + part) * K;
   }
 };
 
@@ -155,7 +161,7 @@ Spectrum structure_factors(const ShearedLattice& g, const WaveRows& w,
 }
 
 // u_i += 2 sum_{half k} Re[exp(i k . x_i) A(k)] at every target.
-void add_field(const ShearedLattice& g, const WaveRows& w, Spectrum& a,
+void add_field(const ShearedLattice& g, const WaveRows& w, const Spectrum& a,
                const std::vector<Vec3>& x, std::vector<Vec3>& u) {
   const double *ar[3], *ai[3];
   for (int d = 0; d < 3; ++d) {
@@ -189,7 +195,7 @@ void add_field(const ShearedLattice& g, const WaveRows& w, Spectrum& a,
   }
 }
 
-Vec3 component_vector(Spectrum& s, int channel, int part, int k) {
+Vec3 component_vector(const Spectrum& s, int channel, int part, int k) {
   return {s.at(channel, 0, part)[k], s.at(channel, 1, part)[k],
           s.at(channel, 2, part)[k]};
 }
