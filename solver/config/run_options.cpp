@@ -137,7 +137,8 @@ Param ewald_xi() {
   return {"ewald.xi", allowed,
           "Ewald splitting parameter; auto: for spectral the xi of least modelled cost "
           "(real-space pairs against grid FFTs), for direct the cost balance of the two "
-          "sums",
+          "sums, for patches their balance at equal cost per term (which holds the "
+          "coarse-graining error)",
           [=](RunOptions& o, const std::string& s) {
             if (s == "auto")
               return void(o.ewald.xi = 0);
