@@ -27,33 +27,22 @@ struct WaveRows {
   int m2_min = 0, m2_max = 0; // m2 of all rows
 };
 
-// The same wave vectors as wave_vectors(), less the lower half space.
+// The wave vectors of for_each_wave_vector in the upper half space.
 WaveRows half_wave_rows(const ShearedLattice& g, double k_cut) {
   WaveRows w;
-  w.m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
   w.m2_min = INT_MAX;
   w.m2_max = INT_MIN;
-  for (int m3 = 0; m3 <= w.m; ++m3)
-    for (int m1 = -w.m; m1 <= w.m; ++m1) {
-      const int centre = int(std::lround(g.s * m1));
-      WaveRows::Row row{m1, m3, 0, 0, int(w.k.size())};
-      for (int m2 = centre - w.m - 1; m2 <= centre + w.m + 1; ++m2) {
-        const bool upper = m3 > 0 || m1 > 0 || (m1 == 0 && m2 > 0);
-        const Vec3 k = reciprocal_point(g, m1, m2, m3);
-        const double kk = norm(k);
-        if (!upper || kk <= 0 || kk >= k_cut)
-          continue; // |k| < k_cut is a ball: the m2 kept at fixed (m1, m3) are
-                    // consecutive
-        if (row.count++ == 0)
-          row.m2_first = m2;
-        w.k.push_back(k);
-      }
-      if (row.count > 0) {
-        w.rows.push_back(row);
-        w.m2_min = std::min(w.m2_min, row.m2_first);
-        w.m2_max = std::max(w.m2_max, row.m2_first + row.count - 1);
-      }
-    }
+  for_each_wave_vector(g, k_cut, [&](int m1, int m2, int m3, Vec3 k) {
+    if (!(m3 > 0 || (m3 == 0 && (m1 > 0 || (m1 == 0 && m2 > 0)))))
+      return;
+    if (w.rows.empty() || w.rows.back().m1 != m1 || w.rows.back().m3 != m3)
+      w.rows.push_back({m1, m3, m2, 0, int(w.k.size())});
+    ++w.rows.back().count;
+    w.k.push_back(k);
+    w.m = std::max({w.m, std::abs(m1), m3});
+    w.m2_min = std::min(w.m2_min, m2);
+    w.m2_max = std::max(w.m2_max, m2);
+  });
   return w;
 }
 

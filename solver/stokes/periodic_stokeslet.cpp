@@ -55,16 +55,8 @@ double balanced_xi(double L, double tolerance, long targets, long sources,
 }
 
 std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut) {
-  const int m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
   std::vector<Vec3> ks;
-  for (int m3 = -m; m3 <= m; ++m3)
-    for (int m1 = -m; m1 <= m; ++m1)
-      for (int m2 = -m - 1; m2 <= m + 1; ++m2) {
-        Vec3 k = reciprocal_point(g, m1, m2 + std::round(g.s * m1), m3);
-        double kk = norm(k);
-        if (kk > 0 && kk < k_cut)
-          ks.push_back(k);
-      }
+  for_each_wave_vector(g, k_cut, [&](int, int, int, Vec3 k) { ks.push_back(k); });
   return ks;
 }
 

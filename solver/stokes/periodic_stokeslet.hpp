@@ -4,6 +4,7 @@
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
 
+#include <cmath>
 #include <vector>
 
 namespace capsim {
@@ -29,6 +30,25 @@ EwaldParameters choose_ewald_parameters(double L, double tolerance, double xi = 
 // sqrt(pi)/L.
 double balanced_xi(double L, double tolerance, long targets, long sources,
                    double pair_cost = 1.0);
+
+// Calls visit(m1, m2, m3, k) for every wave vector k = m1 b1 + m2 b2 + m3 b3 of the
+// sheared lattice with 0 < |k| < k_cut: m3 outermost, then m1, then m2 ascending, so the
+// m2 of one (m1, m3) come together and consecutive (|k| < k_cut is a ball).
+template <class Visit>
+void for_each_wave_vector(const ShearedLattice& g, double k_cut, Visit visit) {
+  const int m = int(std::ceil(k_cut * g.L / (2.0 * 3.14159265358979323846))) + 1;
+  for (int m3 = -m; m3 <= m; ++m3)
+    for (int m1 = -m; m1 <= m; ++m1) {
+      // k_y = 2 pi (m2 - s m1) / L: centre the m2 range on s m1.
+      const int centre = int(std::round(g.s * m1));
+      for (int m2 = centre - m - 1; m2 <= centre + m + 1; ++m2) {
+        const Vec3 k = reciprocal_point(g, m1, m2, m3);
+        const double kk = norm(k);
+        if (kk > 0 && kk < k_cut)
+          visit(m1, m2, m3, k);
+      }
+    }
+}
 
 // Wave vectors of the sheared lattice with 0 < |k| < k_cut.
 std::vector<Vec3> wave_vectors(const ShearedLattice& g, double k_cut);
