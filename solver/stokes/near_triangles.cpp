@@ -56,6 +56,19 @@ private:
 
 } // namespace
 
+DiameterGroups split_by_diameter(const std::vector<double>& diameters, double far_ratio) {
+  double mean = 0, largest = 0;
+  for (double d : diameters)
+    mean += d / double(diameters.size()), largest = std::max(largest, d);
+  const double split = std::min(largest, 2.0 * mean);
+  DiameterGroups g;
+  for (int t = 0; t < int(diameters.size()); ++t)
+    g.ids[diameters[t] > split].push_back(t);
+  g.reach[0] = far_ratio * split;
+  g.reach[1] = far_ratio * largest;
+  return g;
+}
+
 NearLists find_near_triangles(const std::vector<Vec3>& nodes,
                               const std::vector<Vec3>& centroids,
                               const std::vector<double>& diameters, double far_ratio) {
@@ -64,21 +77,11 @@ NearLists find_near_triangles(const std::vector<Vec3>& nodes,
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  // As in the periodic search (near_triangle_cells.hpp): triangles more than twice the
-  // mean diameter, those of a capsule stretched into a thread, get bins of their own with
-  // their longer reach, so that they do not make every node scan most of the capsule.
-  double mean = 0, largest = 0;
-  for (double d : diameters)
-    mean += d / double(diameters.size()), largest = std::max(largest, d);
-  const double split = std::min(largest, 2.0 * mean);
-  std::vector<int> ids[2];
-  for (int t = 0; t < int(diameters.size()); ++t)
-    ids[diameters[t] > split].push_back(t);
+  const DiameterGroups split = split_by_diameter(diameters, far_ratio);
   std::vector<CentroidBins> groups;
   for (int big = 0; big < 2; ++big)
-    if (!ids[big].empty())
-      groups.emplace_back(lo, hi, far_ratio * (big ? largest : split), centroids,
-                          ids[big]);
+    if (!split.ids[big].empty())
+      groups.emplace_back(lo, hi, split.reach[big], centroids, split.ids[big]);
   NearLists out;
   out.offset.assign(nodes.size() + 1, 0);
   for (size_t i = 0; i < nodes.size(); ++i) {
