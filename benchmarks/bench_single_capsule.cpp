@@ -2,6 +2,7 @@
 // time goes (membrane forces, quadrature set-up, dense far sum, near corrections). Prints
 // one JSON object; run by benchmarks/run_benchmarks.sh. Aim (issue 2): level 4 below
 // 0.25 s per step on 2 cores.
+#include "dynamics/cpu_flow.hpp"
 #include "dynamics/time_stepping.hpp"
 #include "io/json_writer.hpp"
 #include "mesh/surface_geometry.hpp"
@@ -30,7 +31,9 @@ void bench_level(JsonWriter& j, int level, int repeats) {
   Icosphere mesh = make_icosphere(level);
   Membrane membrane(mesh.topology, mesh.positions.data(), 1.0 / 0.2);
   QuadratureOptions quad;
-  CapsuleFlow flow(membrane, 1, 1.0, LoadMapping::lumped, quad);
+  FlowSetup setup{membrane, 1, 1.0};
+  setup.quadrature = quad;
+  const CpuFlow flow(setup);
   std::vector<Vec3> x = deformed(mesh.positions), grad, q, u;
 
   double t0 = omp_get_wtime();
@@ -46,7 +49,7 @@ void bench_level(JsonWriter& j, int level, int repeats) {
   t0 = omp_get_wtime();
   for (int r = 0; r < repeats; ++r) {
     std::vector<Vec3> xs = x;
-    rk2_step(flow, xs, 0.0, 1e-3);
+    flow.heun_step(xs, 0.0, 1e-3);
     enforce_volume(mesh.topology, 1, xs, v0);
   }
   double step_s = (omp_get_wtime() - t0) / repeats;

@@ -1,7 +1,8 @@
 // capsim: the command-line front end. Parses arguments and hands over to the run loop;
 // every error reaches the user as one readable line and a non-zero exit code.
 #include "config/run_options.hpp"
-#include "dynamics/time_stepping.hpp"
+#include "dynamics/flow.hpp"
+#include "dynamics/simulation_error.hpp"
 #include "io/json_writer.hpp"
 #include "run/backend_selftest.hpp"
 #include "run/bench.hpp"

@@ -1,7 +1,5 @@
 #include "config/run_options.hpp"
 
-#include "cuda/device_query.hpp"
-
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -282,8 +280,8 @@ const std::vector<Param>& parameters() {
       choice(
           "backend", {"cpu", "cuda"},
           [](RunOptions& o) -> std::string& { return o.backend; },
-          "where the flow is evaluated: cpu (OpenMP) or cuda (one GPU; lumped load and "
-          "the spectral method only)"),
+          "where the flow is evaluated: cpu (OpenMP) or cuda (one GPU; lumped load, "
+          "the spectral method, no bending or repulsion)"),
   };
   return table;
 }
@@ -311,28 +309,6 @@ void flatten(const YAML::Node& node, const std::string& prefix,
   }
 }
 
-// backend: cuda needs a device, and does not (yet) have every option of the CPU path.
-void validate_cuda_backend(const RunOptions& o) {
-  const std::string reason = cuda_unavailable_reason();
-  if (!reason.empty())
-    throw ConfigError("backend: cuda is not available here: " + reason +
-                      "; use backend: cpu");
-  if (o.load != LoadMapping::lumped)
-    throw ConfigError("membrane.load: must be lumped with backend: cuda, got '" +
-                      to_string(o.load) + "'");
-  if (o.phi > 0 && o.method != "spectral")
-    throw ConfigError("method: must be spectral with backend: cuda, got '" + o.method +
-                      "'");
-  if (o.bending > 0)
-    throw ConfigError("membrane.bending: must be 0 with backend: cuda (bending runs on "
-                      "the CPU only), got " +
-                      format_number(o.bending));
-  if (o.suspension.repulsion.on())
-    throw ConfigError("suspension.repulsion_force: must be 0 with backend: cuda (the "
-                      "repulsion runs on the CPU only), got " +
-                      format_number(o.suspension.repulsion.force));
-}
-
 // Checks that involve more than one key.
 void validate(const RunOptions& o) {
   if (o.t_avg_start >= o.t_end)
@@ -345,8 +321,6 @@ void validate(const RunOptions& o) {
     throw ConfigError("ewald.patch_level: must be at most mesh_level (" +
                       std::to_string(o.mesh_level) + ") with method: patches, got " +
                       std::to_string(o.ewald.patch_level));
-  if (o.backend == "cuda")
-    validate_cuda_backend(o);
 }
 
 } // namespace

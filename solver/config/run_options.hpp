@@ -46,7 +46,7 @@ struct RunOptions {
   std::string flow = "shear";      // shear (v = (y, 0, 0)) or quiescent
   double initial_stretch = 1.0;    // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
   LoadMapping load = LoadMapping::lumped;
-  double bending = 0.0;            // bending modulus kb / (Gs a^2); 0 = none (the paper)
+  double bending = 0.0; // bending modulus kb / (Gs a^2); 0 = none (the paper)
   QuadratureOptions quadrature;
   EwaldOptions ewald;
   SuspensionOptions suspension;

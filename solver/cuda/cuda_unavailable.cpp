@@ -28,15 +28,14 @@ std::string cuda_device_description() {
 
 struct DeviceFlow::Impl {};
 
-DeviceFlow::DeviceFlow(const Membrane&, int, double, LoadMapping,
-                       const QuadratureOptions&, const PeriodicBox&) {
+DeviceFlow::DeviceFlow(const FlowSetup& setup) : Flow(setup) {
   throw std::runtime_error(kNotCompiled);
 }
 
 DeviceFlow::~DeviceFlow() = default;
 
-void DeviceFlow::traction(const std::vector<Vec3>&, std::vector<Vec3>&) {}
-void DeviceFlow::velocity(const std::vector<Vec3>&, double, std::vector<Vec3>&) {}
-void DeviceFlow::rk2_step(std::vector<Vec3>&, double, double) {}
+void DeviceFlow::traction(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
+void DeviceFlow::velocity(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
+void DeviceFlow::heun_step(std::vector<Vec3>&, double, double) const {}
 
 } // namespace capsim

@@ -4,8 +4,6 @@
 #include "cuda/device_fft.hpp"
 #include "cuda/device_kernels.hpp"
 
-#include <stdexcept>
-
 namespace capsim {
 
 using cuda::DeviceArray;
@@ -40,32 +38,6 @@ struct DeviceFlow::Impl {
   void add_real_space(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
 };
 
-namespace {
-
-// What the device path supports; the messages name the config key to change.
-void check_supported(LoadMapping load, const PeriodicBox& box) {
-  if (load != LoadMapping::lumped)
-    throw std::invalid_argument(
-        "backend cuda: membrane.load must be lumped (the consistent mass-matrix solve "
-        "has no device version yet)");
-  if (box.L <= 0)
-    return;
-  if (!box.spectral)
-    throw std::invalid_argument(
-        "backend cuda: method must be spectral (direct Ewald sums run on the CPU only)");
-  // Below L/3 the nearest image of a source is the only one within r_cut (the shortest
-  // lattice vector of the sheared box is L, and fractional wrapping finds that image).
-  if (box.ewald.r_cut >= box.L / 3)
-    throw std::invalid_argument(
-        "backend cuda: the real-space cut-off must stay below L/3: raise ewald.xi");
-  if (box.grid.support > kMaxSpreadSupport)
-    throw std::invalid_argument("backend cuda: Spectral Ewald support above " +
-                                std::to_string(kMaxSpreadSupport) +
-                                " points: raise ewald.tolerance");
-}
-
-} // namespace
-
 void DeviceFlow::Impl::upload_mesh(const Membrane& membrane, int num_capsules) {
   const Topology& topo = membrane.topology();
   const int nt = int(topo.triangles.size()), nn = topo.num_nodes;
@@ -95,15 +67,15 @@ void DeviceFlow::Impl::upload_mesh(const Membrane& membrane, int num_capsules) {
   mesh.capsules = num_capsules;
 }
 
-DeviceFlow::DeviceFlow(const Membrane& membrane, int num_capsules, double shear_rate,
-                       LoadMapping load, const QuadratureOptions& quadrature,
-                       const PeriodicBox& box)
-    : impl_(std::make_unique<Impl>()) {
-  check_supported(load, box);
+DeviceFlow::DeviceFlow(const FlowSetup& setup)
+    : Flow(setup), impl_(std::make_unique<Impl>()) {
+  const Membrane& membrane = setup.membrane;
+  const QuadratureOptions& quadrature = setup.quadrature;
+  const PeriodicBox& box = setup.box;
   Impl& s = *impl_;
-  s.upload_mesh(membrane, num_capsules);
+  s.upload_mesh(membrane, setup.num_capsules);
   s.gs = membrane.shear_modulus();
-  s.shear_rate = shear_rate;
+  s.shear_rate = setup.shear_rate;
   const LineRule gl = gauss_legendre_01(quadrature.singular_points);
   s.gl_x.upload(gl.x);
   s.gl_w.upload(gl.w);
@@ -206,19 +178,21 @@ void DeviceFlow::Impl::compute_velocity(const Vec3* xd, double t, Vec3* ud) {
   cuda::finish_velocity(n, xd, shear_rate, ud);
 }
 
-void DeviceFlow::traction(const std::vector<Vec3>& x, std::vector<Vec3>& q) {
+void DeviceFlow::traction(const std::vector<Vec3>& x, double,
+                          std::vector<Vec3>& q) const {
   impl_->x.upload(x);
   impl_->compute_traction(impl_->x.data());
   impl_->q.download(q);
 }
 
-void DeviceFlow::velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) {
+void DeviceFlow::velocity(const std::vector<Vec3>& x, double t,
+                          std::vector<Vec3>& u) const {
   impl_->x.upload(x);
   impl_->compute_velocity(impl_->x.data(), t, impl_->u0.data());
   impl_->u0.download(u);
 }
 
-void DeviceFlow::rk2_step(std::vector<Vec3>& x, double t, double dt) {
+void DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   Impl& s = *impl_;
   const int n = s.mesh.num_nodes();
   s.x.upload(x);

@@ -1,34 +1,46 @@
 #pragma once
-// The CUDA backend of CapsuleFlow: the same velocity field (membrane traction, free-space
-// or periodic single layer with Spectral Ewald, shear flow) and Heun step, evaluated on
-// the device. The mesh, its reference state and every work array stay in device memory
-// for the whole run; a step copies only the node positions in and out (the volume
-// constraint, checks and diagnostics run on the host). Plain C++: device_flow.cpp
-// implements it with CUDA, cuda_unavailable.cpp (builds without CUDA) refuses to.
-#include "dynamics/time_stepping.hpp"
+// The CUDA backend of the flow interface: the same velocity field (membrane traction,
+// free-space or periodic single layer with Spectral Ewald, shear flow) and Heun step,
+// evaluated on the device. The mesh, its reference state and every work array stay in
+// device memory for the whole run; a step copies only the node positions in and out
+// (the volume constraint, checks and diagnostics run on the host). Plain C++:
+// device_flow.cpp implements it with CUDA, cuda_unavailable.cpp (builds without CUDA)
+// refuses to.
+#include "dynamics/flow.hpp"
+#include "stokes/spectral_weights.hpp"
 
 #include <memory>
 #include <vector>
 
 namespace capsim {
 
-class DeviceFlow {
+class DeviceFlow : public Flow {
 public:
-  // Throws std::invalid_argument for what the device path does not do (the consistent
-  // load mapping, direct Ewald sums, r_cut >= L/3), std::runtime_error for CUDA errors.
-  DeviceFlow(const Membrane& membrane, int num_capsules, double shear_rate,
-             LoadMapping load, const QuadratureOptions& quadrature,
-             const PeriodicBox& box);
-  ~DeviceFlow();
-  DeviceFlow(const DeviceFlow&) = delete;
-  DeviceFlow& operator=(const DeviceFlow&) = delete;
+  // The lumped load only (the consistent mass-matrix solve has no device version yet),
+  // Spectral Ewald only, no bending or repulsion; r_cut < L/3, so that the nearest image
+  // of a source is the only one within r_cut (the shortest lattice vector of the sheared
+  // box is L, and fractional wrapping finds that image); the spreading stencil within
+  // the kernels' fixed bound.
+  static FlowCapabilities capabilities() {
+    FlowCapabilities c;
+    c.consistent_load = c.bending = c.repulsion = c.direct_sums = false;
+    c.max_cut_fraction = 1.0 / 3.0;
+    c.max_spread_support = kMaxSpreadSupport;
+    return c;
+  }
 
+  // Throws std::runtime_error for CUDA errors. The factory has checked capabilities().
+  explicit DeviceFlow(const FlowSetup& setup);
+  ~DeviceFlow() override;
+
+  Backend backend() const override { return Backend::cuda; }
   // The nodal traction q (lumped) at positions x.
-  void traction(const std::vector<Vec3>& x, std::vector<Vec3>& q);
-  // Node velocities at positions x and time t.
-  void velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u);
-  // One Heun step from time t, both stages on the device.
-  void rk2_step(std::vector<Vec3>& x, double t, double dt);
+  void traction(const std::vector<Vec3>& x, double t,
+                std::vector<Vec3>& q) const override;
+  void velocity(const std::vector<Vec3>& x, double t,
+                std::vector<Vec3>& u) const override;
+  // Both stages on the device.
+  void heun_step(std::vector<Vec3>& x, double t, double dt) const override;
 
 private:
   struct Impl;

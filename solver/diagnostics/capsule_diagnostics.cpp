@@ -1,7 +1,7 @@
 #include "diagnostics/capsule_diagnostics.hpp"
 
+#include "common/constants.hpp"
 #include "mesh/surface_geometry.hpp"
-#include "stokes/stokeslet.hpp"
 
 #include <cmath>
 

@@ -1,7 +1,7 @@
 #pragma once
-// Per-capsule diagnostics (DESIGN.md 1): Taylor parameter and angle from the second
-// moment of the enclosed volume (eq. 4.2), stresslet (eq. 4.4) and its principal values
-// in the shear plane (eqs. 4.12-4.15).
+// Per-capsule diagnostics (docs/conventions.md): Taylor parameter and angle from the
+// second moment of the enclosed volume (eq. 4.2), stresslet (eq. 4.4) and its principal
+// values in the shear plane (eqs. 4.12-4.15).
 #include "io/records.hpp"
 #include "mesh/icosphere.hpp"
 

@@ -1,6 +1,6 @@
 #include "dynamics/packing.hpp"
 
-#include "stokes/stokeslet.hpp"
+#include "common/constants.hpp"
 
 #include <cmath>
 #include <random>

@@ -3,7 +3,7 @@
 // side L, non-overlapping with a minimum surface gap, seeded. Random sequential addition
 // jams near phi = 0.38, so the spheres are placed at random at a fraction of their final
 // size and grown in steps, each followed by pushing overlapping pairs apart
-// (grow-and-relax, DESIGN.md section 2); this reaches phi = 0.45 and beyond.
+// (grow-and-relax, docs/method.md); this reaches phi = 0.45 and beyond.
 #include "common/vec3.hpp"
 
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 // Plain records that the run loop hands to the output files. Units follow
-// ../shared/DESIGN.md: lengths in a, times in 1/gammadot, stresslets and energies in Gs
+// docs/conventions.md: lengths in a, times in 1/gammadot, stresslets and energies in Gs
 // a^2.
 #include "common/vec3.hpp"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Assembly of the membrane forces of one capsule and the traction jump q that enters the
-// boundary integral (eq. 2.2). Sign (DESIGN.md 1): q_i = (dW/dx_i) / A_i, so that a
-// stretched capsule in quiescent fluid relaxes.
+// boundary integral (eq. 2.2). Sign (docs/conventions.md): q_i = (dW/dx_i) / A_i, so that
+// a stretched capsule in quiescent fluid relaxes.
 #include "membrane/bending.hpp"
 #include "membrane/neo_hookean.hpp"
 #include "mesh/icosphere.hpp"
@@ -41,6 +41,7 @@ public:
 
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
+  double bending_modulus() const { return kb_; }
   // The reference state of every element (what a device copy of the membrane needs).
   const std::vector<ElementReference>& references() const { return refs_; }
 

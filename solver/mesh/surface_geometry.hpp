@@ -1,6 +1,7 @@
 #pragma once
 // Geometry of a closed triangulated surface: areas, normals, enclosed volume, centroid
-// and second moment of the enclosed volume (through the divergence theorem, DESIGN.md 1).
+// and second moment of the enclosed volume (through the divergence theorem,
+// docs/conventions.md).
 #include "common/vec3.hpp"
 #include "mesh/icosphere.hpp"
 

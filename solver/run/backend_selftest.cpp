@@ -1,8 +1,11 @@
 #include "run/backend_selftest.hpp"
 
+#include "common/suspension.hpp"
 #include "config/run_options.hpp"
 #include "cuda/device_query.hpp"
+#include "dynamics/time_stepping.hpp"
 #include "mesh/surface_geometry.hpp"
+#include "run/flow_factory.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,17 +37,14 @@ std::vector<Vec3> deformed_capsule(const Icosphere& mesh, Vec3 c, double stretch
   return x;
 }
 
-// Two capsules in a sheared box at phi = 0.1, Ewald parameters as a run chooses them.
-PeriodicBox selftest_box(double mean_edge) {
-  PeriodicBox box;
-  const double tolerance = 1e-6;
-  box.L = std::cbrt(2 * 4.0 * kPi / (3.0 * 0.1));
-  const double x_cut = choose_ewald_parameters(box.L, tolerance, 1.0).r_cut;
-  const double xi = std::min(x_cut / std::min(box.L / 5.0, 1.5), 0.25 / mean_edge);
-  box.ewald = choose_ewald_parameters(box.L, tolerance, xi);
-  box.spectral = true;
-  box.grid = choose_spectral_parameters(box.L, box.ewald, tolerance);
-  return box;
+// Two capsules in a sheared box at phi = 0.1, Spectral Ewald at tolerance 1e-6 with the
+// parameters a run on `backend` would choose.
+PeriodicBox selftest_box(const Topology& topo, Backend backend) {
+  const int capsules = 2;
+  EwaldRequest r;
+  r.max_cut_fraction = capabilities_of(backend).max_cut_fraction;
+  return make_periodic_box(periodic_box_side(capsules, 0.1), r, capsules * topo.num_nodes,
+                           3L * capsules * long(topo.triangles.size()));
 }
 
 struct Report {
@@ -64,22 +64,22 @@ struct Report {
 void compare_case(Report& r, const std::string& name, const Membrane& membrane,
                   int capsules, const PeriodicBox& box, Backend backend,
                   const std::vector<Vec3>& x0, double dt, int steps) {
-  const QuadratureOptions quad;
-  const CapsuleFlow cpu(membrane, capsules, 1.0, LoadMapping::lumped, quad, box);
-  const CapsuleFlow other(membrane, capsules, 1.0, LoadMapping::lumped, quad, box,
-                          backend);
+  FlowSetup setup{membrane, capsules};
+  setup.box = box;
+  const std::unique_ptr<Flow> cpu = make_flow(Backend::cpu, setup);
+  const std::unique_ptr<Flow> other = make_flow(backend, setup);
   std::vector<Vec3> a, b;
-  cpu.traction(x0, 0.0, a);
-  other.traction(x0, 0.0, b);
+  cpu->traction(x0, 0.0, a);
+  other->traction(x0, 0.0, b);
   r.line(name + ": membrane traction", max_relative_difference(b, a), 1e-12);
-  cpu.velocity(x0, 0.3, a);
-  other.velocity(x0, 0.3, b);
+  cpu->velocity(x0, 0.3, a);
+  other->velocity(x0, 0.3, b);
   // Summation order differs (tiles, atomics in spreading, cuFFT against FFTW).
   r.line(name + ": velocity", max_relative_difference(b, a), 1e-10);
   std::vector<Vec3> xa = x0, xb = x0;
   for (int s = 0; s < steps; ++s) {
-    rk2_step(cpu, xa, s * dt, dt);
-    rk2_step(other, xb, s * dt, dt);
+    cpu->heun_step(xa, s * dt, dt);
+    other->heun_step(xb, s * dt, dt);
   }
   r.line(name + ": positions after " + std::to_string(steps) + " RK2 steps",
          max_relative_difference(xb, xa), 1e-10);
@@ -105,7 +105,7 @@ bool run_backend_selftest(Backend backend, std::ostream& out) {
   Report r{out};
   compare_case(r, "free space, 1 capsule", membrane, 1, {}, backend,
                deformed_capsule(mesh, {0, 0, 0}, 1.3), dt, 10);
-  const PeriodicBox box = selftest_box(h);
+  const PeriodicBox box = selftest_box(mesh.topology, backend);
   std::vector<Vec3> x = deformed_capsule(mesh, {1.0, 1.0, 1.0}, 1.2);
   for (const Vec3& p : deformed_capsule(mesh, {3.0, 2.5, 2.2}, 1.1))
     x.push_back(p);

@@ -3,7 +3,7 @@
 // CPU backend and prints their differences: the membrane traction, the free-space and the
 // periodic (Spectral Ewald) velocity, and a few time steps of each. For users with a GPU
 // to check the CUDA backend; with B = cpu it compares the CPU path with itself.
-#include "dynamics/time_stepping.hpp"
+#include "dynamics/flow.hpp"
 
 #include <ostream>
 

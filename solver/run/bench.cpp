@@ -1,11 +1,11 @@
 #include "run/bench.hpp"
 
+#include "common/suspension.hpp"
 #include "config/run_options.hpp"
 #include "dynamics/packing.hpp"
-#include "dynamics/time_stepping.hpp"
 #include "io/json_writer.hpp"
 #include "membrane/membrane_forces.hpp"
-#include "stokes/periodic_single_layer.hpp"
+#include "stokes/ewald_setup.hpp"
 #include "stokes/real_space_sum.hpp"
 
 #include <cmath>
@@ -49,7 +49,7 @@ void check_options(const BenchOptions& o) {
 Configuration make_configuration(const BenchOptions& o) {
   Configuration c;
   c.mesh = make_icosphere(o.mesh_level);
-  c.L = std::cbrt(o.capsules * 4.0 * kPi / (3.0 * o.phi));
+  c.L = periodic_box_side(o.capsules, o.phi);
   PackingOptions pack;
   pack.capsules = o.capsules;
   pack.box = c.L;
@@ -124,8 +124,8 @@ std::vector<Vec3> reference_velocity(const BenchOptions& o, const Configuration&
   if (!o.reference_file.empty() && read_reference(o.reference_file, header, u))
     return u;
   const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
-  const PeriodicBox box =
-      make_periodic_box(c.L, "direct", kReferenceTol, 0.0, long(c.x.size()), points);
+  const PeriodicBox box = make_periodic_box(c.L, {EwaldMethod::direct, kReferenceTol},
+                                            long(c.x.size()), points);
   const double t0 = omp_get_wtime();
   periodic_single_layer_velocity(c.mesh.topology, o.capsules, c.x, c.q,
                                  make_sheared_lattice(c.L, o.strain), box.ewald, quad, u);
@@ -143,22 +143,24 @@ std::string run_benchmark(const BenchOptions& o) {
   const QuadratureOptions quad;
   const long nodes = long(c.x.size());
   const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
-  const PeriodicBox box =
-      make_periodic_box(c.L, o.method, o.tolerance, o.xi, nodes, points, o.patch_level);
+  const PeriodicBox box = make_periodic_box(
+      c.L, {parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level}, nodes,
+      points);
   const ShearedLattice lattice = make_sheared_lattice(c.L, o.strain);
   std::unique_ptr<SpectralEwald> spectral;
-  if (box.spectral)
+  if (box.method == EwaldMethod::spectral)
     spectral = std::make_unique<SpectralEwald>(c.L, box.ewald, box.grid);
   std::vector<Vec3> u;
   if (spectral) // warm-up: FFTW's first execution and the grid's first touch
     periodic_single_layer_velocity(c.mesh.topology, o.capsules, c.x, c.q, lattice,
-                                   box.ewald, quad, u, {spectral.get(), box.patch_level});
+                                   box.ewald, quad, u,
+                                   reciprocal_sum(box, spectral.get()));
   PeriodicTimings t;
   const double t0 = omp_get_wtime();
   for (int r = 0; r < o.repeats; ++r)
     periodic_single_layer_velocity(c.mesh.topology, o.capsules, c.x, c.q, lattice,
-                                   box.ewald, quad, u, {spectral.get(), box.patch_level},
-                                   &t);
+                                   box.ewald, quad, u,
+                                   reciprocal_sum(box, spectral.get()), &t);
   const double per_eval = (omp_get_wtime() - t0) / o.repeats;
 
   JsonWriter j;
@@ -177,9 +179,9 @@ std::string run_benchmark(const BenchOptions& o) {
   j.field("xi", box.ewald.xi);
   j.field("r_cut", box.ewald.r_cut);
   j.field("k_cut", box.ewald.k_cut);
-  if (box.patch_level >= 0)
+  if (box.method == EwaldMethod::patches)
     j.field("patches", long(o.capsules) * icosphere_triangles(box.patch_level));
-  if (box.spectral) {
+  if (box.method == EwaldMethod::spectral) {
     j.field("grid", std::vector<double>(box.grid.grid, box.grid.grid + 3));
     j.field("support", box.grid.support);
   }
@@ -190,7 +192,7 @@ std::string run_benchmark(const BenchOptions& o) {
   j.field("near", t.near / o.repeats);
   j.field("real_space", t.real_space / o.repeats);
   j.field("reciprocal", t.reciprocal / o.repeats);
-  if (box.spectral) {
+  if (box.method == EwaldMethod::spectral) {
     j.field("spreading", t.spectral.spread / o.repeats);
     j.field("fft", t.spectral.fft / o.repeats);
     j.field("gathering", t.spectral.gather / o.repeats);

@@ -1,5 +1,6 @@
 #include "run/simulation.hpp"
 
+#include "common/suspension.hpp"
 #include "diagnostics/averages.hpp"
 #include "diagnostics/capsule_diagnostics.hpp"
 #include "dynamics/lees_edwards.hpp"
@@ -10,8 +11,8 @@
 #include "io/timeseries_file.hpp"
 #include "io/xdmf_snapshot.hpp"
 #include "mesh/surface_geometry.hpp"
+#include "run/flow_factory.hpp"
 #include "run/summary.hpp"
-#include "stokes/stokeslet.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -33,16 +34,30 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The periodic box for phi > 0: side L = (M 4 pi / (3 phi))^(1/3) (DESIGN.md 1); none
-// (L = 0) in the dilute limit.
+// The periodic box for phi > 0 (docs/conventions.md), within what the backend can
+// evaluate; none (L = 0) in the dilute limit.
 PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   if (o.phi <= 0)
     return {};
-  const double L = std::cbrt(o.capsules * 4.0 * kPi / (3.0 * o.phi));
+  EwaldRequest r;
+  r.method = parse_ewald_method(o.method);
+  r.tolerance = o.ewald.tolerance;
+  r.xi = o.ewald.xi;
+  r.patch_level = o.ewald.patch_level;
+  r.max_cut_fraction = capabilities_of(parse_backend(o.backend)).max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
-  return make_periodic_box(L, o.method, o.ewald.tolerance, o.ewald.xi, nodes, points,
-                           o.ewald.patch_level);
+  return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
+}
+
+FlowSetup flow_setup(const RunOptions& o, const Membrane& membrane,
+                     const PeriodicBox& box) {
+  FlowSetup s(membrane, o.capsules, o.flow == "shear" ? 1.0 : 0.0);
+  s.load = o.load;
+  s.quadrature = o.quadrature;
+  s.box = box;
+  s.repulsion = o.suspension.repulsion;
+  return s;
 }
 
 long steps_for(double interval, double dt) {
@@ -72,9 +87,8 @@ public:
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
-        box_(periodic_box(o, mesh_.topology)),
-        flow_(membrane_, o.capsules, o.flow == "shear" ? 1.0 : 0.0, o.load, o.quadrature,
-              box_, parse_backend(o.backend)) {
+        flow_(make_flow(parse_backend(o.backend),
+                        flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))) {
     dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending);
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
     sample_every_ = steps_for(o.output.sample_interval, dt_);
@@ -82,7 +96,6 @@ public:
     snapshot_every_ = steps_for(o.output.snapshot_interval, dt_);
     v0_.assign(o.capsules, enclosed_volume(mesh_.topology, mesh_.positions.data()));
     drift_.assign(o.capsules, 0.0);
-    flow_.set_repulsion(o.suspension.repulsion);
   }
 
   void start_fresh();
@@ -101,6 +114,7 @@ private:
   void report_progress(Clock::time_point begin, long first_step, bool force);
   void keep_in_box();
   void step_until_end(Clock::time_point begin, long first);
+  const PeriodicBox& box() const { return flow_->setup().box; }
 
   RunOptions o_;
   std::string dir_;
@@ -108,8 +122,7 @@ private:
   Icosphere mesh_;
   Membrane membrane_;
   double h_; // mean edge of the undeformed mesh: sets dt
-  PeriodicBox box_;
-  CapsuleFlow flow_;
+  std::unique_ptr<Flow> flow_;
   double dt_;
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
   long step_ = 0, rows_written_ = 0;
@@ -123,10 +136,10 @@ private:
 void RunLoop::start_fresh() {
   const double s = o_.initial_stretch;
   std::vector<Vec3> centres(1); // the dilute limit: one capsule at the origin
-  if (flow_.periodic()) {
+  if (flow_->periodic()) {
     PackingOptions pack;
     pack.capsules = o_.capsules;
-    pack.box = box_.L;
+    pack.box = box().L;
     pack.min_gap = o_.suspension.min_gap;
     pack.seed = unsigned(o_.seed);
     try {
@@ -179,14 +192,14 @@ void RunLoop::run() {
 
 void RunLoop::step_until_end(Clock::time_point begin, long first) {
   while (step_ < n_steps_) {
-    rk2_step(flow_, x_, step_ * dt_, dt_);
+    flow_->heun_step(x_, step_ * dt_, dt_);
     ++step_;
     std::vector<double> d = enforce_volume(mesh_.topology, o_.capsules, x_, v0_);
     for (int c = 0; c < o_.capsules; ++c)
       if (std::abs(d[c]) > std::abs(drift_[c]))
         drift_[c] = d[c];
     check_state(mesh_.topology, o_.capsules, x_, step_ * dt_);
-    if (flow_.periodic())
+    if (flow_->periodic())
       keep_in_box();
     if (step_ % sample_every_ == 0 || step_ == n_steps_)
       take_sample();
@@ -200,7 +213,7 @@ void RunLoop::step_until_end(Clock::time_point begin, long first) {
 
 // Lees-Edwards remapping, then the contact check: capsules may not interpenetrate.
 void RunLoop::keep_in_box() {
-  const ShearedLattice lattice = flow_.lattice(step_ * dt_);
+  const ShearedLattice lattice = flow_->lattice(step_ * dt_);
   remap_capsules(mesh_.topology, o_.capsules, lattice, x_);
   ClosestApproach c = closest_approach(mesh_.topology, o_.capsules, lattice, x_,
                                        o_.suspension.stop_distance);
@@ -219,13 +232,13 @@ void RunLoop::keep_in_box() {
 
 void RunLoop::take_sample() {
   std::vector<Vec3> grad;
-  std::vector<double> energy = flow_.energy_gradient(x_, grad);
+  std::vector<double> energy = flow_->energy_gradient(x_, grad);
   const int nn = mesh_.topology.num_nodes;
   Sample s;
   s.time = step_ * dt_;
   s.step = step_;
   // The stresslet sees the whole load on the membrane, the repulsion's included.
-  const std::vector<int> repelled = flow_.add_repulsion(x_, s.time, grad);
+  const std::vector<int> repelled = flow_->add_repulsion(x_, s.time, grad);
   for (int c = 0; c < o_.capsules; ++c) {
     s.capsules.push_back(capsule_sample(mesh_.topology, &x_[c * nn], &grad[c * nn],
                                         energy[c], v0_[c], o_.ca));
@@ -267,9 +280,9 @@ void RunLoop::save_checkpoint() {
 void RunLoop::save_snapshot() {
   SnapshotFrame frame;
   frame.time = step_ * dt_;
-  if (flow_.periodic()) {
-    frame.box_side = box_.L;
-    frame.strain = flow_.lattice(frame.time).s;
+  if (flow_->periodic()) {
+    frame.box_side = box().L;
+    frame.strain = flow_->lattice(frame.time).s;
   }
   write_snapshot(dir_, long(snapshots_.size()), frame, mesh_.topology.triangles,
                  o_.capsules, x_, snapshots_);
@@ -301,13 +314,13 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   facts.wall_seconds = wall_seconds;
   facts.resumed = resumed;
   facts.threads = omp_get_max_threads();
-  facts.box_side = box_.L;
-  facts.ewald_xi = box_.ewald.xi;
-  facts.ewald_r_cut = box_.ewald.r_cut;
-  facts.ewald_k_cut = box_.ewald.k_cut;
-  if (box_.spectral)
-    facts.spectral_grid.assign(box_.grid.grid, box_.grid.grid + 3);
-  facts.spectral_support = box_.grid.support;
+  facts.box_side = box().L;
+  facts.ewald_xi = box().ewald.xi;
+  facts.ewald_r_cut = box().ewald.r_cut;
+  facts.ewald_k_cut = box().ewald.k_cut;
+  if (box().method == EwaldMethod::spectral)
+    facts.spectral_grid.assign(box().grid.grid, box().grid.grid + 3);
+  facts.spectral_support = box().grid.support;
   double t_final = samples.empty() ? 0.0 : samples.back().time;
   write_summary_json(dir_ + "/summary.json", o_,
                      time_average(samples, o_.t_avg_start, t_final), facts);
@@ -337,16 +350,18 @@ void run_simulation(const RunRequest& request) {
   if (request.resume) {
     checkpoint = read_checkpoint(request.outdir + "/checkpoint.h5");
     o = resume_options(request.outdir, checkpoint, request.resume_overrides);
-  } else {
-    prepare_fresh_outdir(request.outdir);
   }
   if (o.threads > 0)
     omp_set_num_threads(o.threads);
+  // Built first: a backend that cannot run the options stops the run before anything
+  // is written.
   RunLoop loop(o, request.outdir, request.quiet);
-  if (request.resume)
+  if (request.resume) {
     loop.start_from(checkpoint);
-  else
+  } else {
+    prepare_fresh_outdir(request.outdir);
     loop.start_fresh();
+  }
   auto seconds = [&] {
     return std::chrono::duration<double>(Clock::now() - begin).count();
   };

@@ -1,5 +1,5 @@
 #pragma once
-// summary.json: the run's time averages, rheology and facts (DESIGN.md 3).
+// summary.json: the run's time averages, rheology and facts (docs/usage.md).
 #include "config/run_options.hpp"
 #include "diagnostics/averages.hpp"
 

@@ -1,6 +1,7 @@
 #pragma once
 // The periodic Stokeslet J^E of a sheared lattice (paper eq. 2.3) by plain Ewald sums:
 // the reference kernel behind `capsim greens` and the tests of the fast methods.
+#include "common/constants.hpp"
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
 
@@ -36,7 +37,7 @@ double balanced_xi(double L, double tolerance, long targets, long sources,
 // m2 of one (m1, m3) come together and consecutive (|k| < k_cut is a ball).
 template <class Visit>
 void for_each_wave_vector(const ShearedLattice& g, double k_cut, Visit visit) {
-  const int m = int(std::ceil(k_cut * g.L / (2.0 * 3.14159265358979323846))) + 1;
+  const int m = int(std::ceil(k_cut * g.L / (2.0 * kPi))) + 1;
   for (int m3 = -m; m3 <= m; ++m3)
     for (int m1 = -m; m1 <= m; ++m1) {
       // k_y = 2 pi (m2 - s m1) / L: centre the m2 range on s m1.

@@ -1,9 +1,10 @@
 #pragma once
-// The sheared (Lees-Edwards) periodic lattice of DESIGN.md section 2: lattice vectors
+// The sheared (Lees-Edwards) periodic lattice (docs/conventions.md): lattice vectors
 // a1 = L e_x, a2 = L (e_y + s e_x), a3 = L e_z, with the strain offset s = gammadot t
 // wrapped into [-1/2, 1/2) (s and s + 1 give the same lattice); reciprocal vectors
 // b1 = (2 pi / L)(1, -s, 0), b2 = (2 pi / L) e_y, b3 = (2 pi / L) e_z, so a_i . b_j = 2
 // pi d_ij.
+#include "common/constants.hpp"
 #include "common/vec3.hpp"
 
 #include <cmath>
@@ -31,7 +32,7 @@ CAPSIM_HD Vec3 lattice_point(const ShearedLattice& g, double n1, double n2, doub
 // Reciprocal lattice point m1 b1 + m2 b2 + m3 b3.
 CAPSIM_HD Vec3 reciprocal_point(const ShearedLattice& g, double m1, double m2,
                                 double m3) {
-  const double c = 2.0 * 3.14159265358979323846 / g.L;
+  const double c = 2.0 * kPi / g.L;
   return {c * m1, c * (m2 - g.s * m1), c * m3};
 }
 

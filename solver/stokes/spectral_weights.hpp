@@ -7,6 +7,7 @@
 //    range re-centred for every j1 so that the stencil follows the sheared cell);
 //  - the Fourier multiplier of the grid: the Stokes k-space kernel with the remaining
 //    Gaussian exp(-sum_d (1 - eta_d) k_d^2/(4 xi^2)).
+#include "common/constants.hpp"
 #include "common/fast_special.hpp"
 #include "common/vec3.hpp"
 #include "stokes/sheared_lattice.hpp"
@@ -44,7 +45,7 @@ CAPSIM_HD SpreadGrid make_spread_grid(double L, const int m[3], int support, dou
     s.h[d] = L / m[d];
     s.eta[d] = eta[d];
     s.rate[d] = 2.0 * xi * xi / eta[d];
-    s.scale *= std::sqrt(s.rate[d] / 3.14159265358979323846);
+    s.scale *= std::sqrt(s.rate[d] / kPi);
   }
   for (int a = 0; a < support && a < kMaxSpreadSupport; ++a)
     s.ramp[a] = std::exp(-s.rate[0] * a * a * s.h[0] * s.h[0]);

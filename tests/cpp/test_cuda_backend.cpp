@@ -2,8 +2,12 @@
 // corrections its kernels run, the clear refusal of backend: cuda, and the self-test's
 // CPU-against-CPU path.
 #include "config/run_options.hpp"
+#include "cuda/device_flow.hpp"
 #include "cuda/device_query.hpp"
+#include "dynamics/cpu_flow.hpp"
+#include "mesh/icosphere.hpp"
 #include "run/backend_selftest.hpp"
+#include "run/flow_factory.hpp"
 #include "stokes/near_corrections.hpp"
 
 #include <catch2/catch.hpp>
@@ -70,7 +74,9 @@ TEST_CASE(
     "[cuda]") {
   const std::string reason = cuda_unavailable_reason();
   if (!reason.empty()) {
-    CHECK_THROWS_WITH(parse_run_options("backend: cuda\n", {}),
+    const Icosphere mesh = make_icosphere(1);
+    const Membrane membrane(mesh.topology, mesh.positions.data(), 1.0);
+    CHECK_THROWS_WITH(check_flow_supported(Backend::cuda, {membrane}),
                       Catch::StartsWith("backend: cuda is not available here"));
     std::ostringstream out;
     CHECK_THROWS_AS(run_backend_selftest(Backend::cuda, out), ConfigError);
@@ -91,6 +97,37 @@ TEST_CASE(
     CHECK(parse_run_options("backend: cuda\n", {}).backend == "cuda");
   }
   CHECK(parse_run_options("backend: cpu\n", {}).backend == "cpu");
+}
+
+TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, whatever "
+          "builds the flow",
+          "[cuda]") {
+  const Icosphere mesh = make_icosphere(1);
+  const Membrane plain(mesh.topology, mesh.positions.data(), 1.0);
+  const Membrane bent(mesh.topology, mesh.positions.data(), 1.0, 0.05);
+  const FlowCapabilities device = DeviceFlow::capabilities();
+  FlowSetup consistent{plain}, direct{plain}, repelled{plain}, wide{plain},
+      spectral{plain};
+  consistent.load = LoadMapping::consistent;
+  direct.box = make_periodic_box(6.0, {EwaldMethod::direct, 1e-4}, 100, 300);
+  repelled.repulsion.force = 5;
+  wide.box = make_periodic_box(6.0, {EwaldMethod::spectral, 1e-4, 0.3}, 100, 300);
+  // The automatic xi within the device's limit on r_cut.
+  EwaldRequest automatic{EwaldMethod::spectral, 1e-4};
+  automatic.max_cut_fraction = device.max_cut_fraction;
+  spectral.box = make_periodic_box(6.0, automatic, 100, 300);
+  const std::vector<std::pair<FlowSetup, std::string>> refused = {
+      {{bent}, "membrane.bending: must be 0 with backend: cuda"},
+      {consistent, "membrane.load: must be lumped with backend: cuda"},
+      {direct, "method: must be spectral with backend: cuda"},
+      {repelled, "suspension.repulsion_force: must be 0 with backend: cuda"},
+      {wide, "ewald.xi: the real-space cut-off"}};
+  for (const auto& [setup, message] : refused) {
+    CHECK_THAT(unsupported_by(setup, device, Backend::cuda), Catch::StartsWith(message));
+    CHECK(unsupported_by(setup, CpuFlow::capabilities(), Backend::cpu).empty());
+  }
+  CHECK(unsupported_by({plain}, device, Backend::cuda).empty());
+  CHECK(unsupported_by(spectral, device, Backend::cuda).empty());
 }
 
 TEST_CASE("selftest: the cpu backend agrees with itself", "[cuda]") {

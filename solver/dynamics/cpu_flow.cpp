@@ -1,0 +1,38 @@
+#include "dynamics/cpu_flow.hpp"
+
+namespace capsim {
+
+CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup) {
+  const PeriodicBox& box = setup_.box;
+  if (box.L > 0 && box.method == EwaldMethod::spectral)
+    spectral_ = std::make_unique<SpectralEwald>(box.L, box.ewald, box.grid);
+}
+
+void CpuFlow::traction(const std::vector<Vec3>& x, double t, std::vector<Vec3>& q) const {
+  const int nn = membrane().topology().num_nodes;
+  std::vector<Vec3> grad, qc;
+  q.resize(x.size());
+  energy_gradient(x, grad);
+  add_repulsion(x, t, grad);
+  for (int c = 0; c < num_capsules(); ++c) {
+    std::vector<Vec3> gc(grad.begin() + c * nn, grad.begin() + (c + 1) * nn);
+    membrane().nodal_load(&x[c * nn], gc, setup_.load, qc);
+    std::copy(qc.begin(), qc.end(), q.begin() + c * nn);
+  }
+}
+
+void CpuFlow::velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const {
+  const Topology& topo = membrane().topology();
+  std::vector<Vec3> q;
+  traction(x, t, q);
+  if (periodic())
+    periodic_single_layer_velocity(topo, num_capsules(), x, q, lattice(t),
+                                   setup_.box.ewald, setup_.quadrature, u,
+                                   reciprocal_sum(setup_.box, spectral_.get()));
+  else
+    single_layer_velocity(topo, num_capsules(), x, q, setup_.quadrature, u);
+  for (size_t i = 0; i < x.size(); ++i)
+    u[i].x += setup_.shear_rate * x[i].y;
+}
+
+} // namespace capsim

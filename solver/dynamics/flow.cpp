@@ -1,0 +1,80 @@
+#include "dynamics/flow.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace capsim {
+
+Backend parse_backend(const std::string& name) {
+  if (name == "cpu")
+    return Backend::cpu;
+  if (name == "cuda")
+    return Backend::cuda;
+  throw std::invalid_argument("backend must be one of {cpu, cuda}, got '" + name + "'");
+}
+
+std::string to_string(Backend b) {
+  return b == Backend::cpu ? "cpu" : "cuda";
+}
+
+std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
+                           Backend backend) {
+  std::ostringstream m;
+  const std::string with = " with backend: " + to_string(backend);
+  const Membrane& membrane = s.membrane;
+  if (s.load != LoadMapping::lumped && !caps.consistent_load)
+    m << "membrane.load: must be lumped" << with << ", got '" << to_string(s.load) << "'";
+  else if (membrane.bending_modulus() > 0 && !caps.bending)
+    m << "membrane.bending: must be 0" << with << " (bending runs on the CPU only), got "
+      << membrane.bending_modulus() / membrane.shear_modulus();
+  else if (s.repulsion.on() && !caps.repulsion)
+    m << "suspension.repulsion_force: must be 0" << with
+      << " (the repulsion runs on the CPU only), got " << s.repulsion.force;
+  else if (s.box.L > 0 && s.box.method != EwaldMethod::spectral && !caps.direct_sums)
+    m << "method: must be spectral" << with << ", got '" << to_string(s.box.method)
+      << "'";
+  else if (s.box.L > 0 && s.box.ewald.r_cut >= caps.max_cut_fraction * s.box.L)
+    m << "ewald.xi: the real-space cut-off " << s.box.ewald.r_cut << " must stay below "
+      << caps.max_cut_fraction << " L = " << caps.max_cut_fraction * s.box.L << with
+      << ": raise ewald.xi";
+  else if (s.box.L > 0 && s.box.method == EwaldMethod::spectral &&
+           s.box.grid.support > caps.max_spread_support)
+    m << "ewald.tolerance: the Spectral-Ewald support of " << s.box.grid.support
+      << " points exceeds " << caps.max_spread_support << with
+      << ": raise ewald.tolerance";
+  return m.str();
+}
+
+void Flow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
+  std::vector<Vec3> u0, u1, xs(x.size());
+  velocity(x, t, u0);
+  for (size_t i = 0; i < x.size(); ++i)
+    xs[i] = x[i] + dt * u0[i];
+  velocity(xs, t + dt, u1);
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] += (0.5 * dt) * (u0[i] + u1[i]);
+}
+
+std::vector<double> Flow::energy_gradient(const std::vector<Vec3>& x,
+                                          std::vector<Vec3>& grad) const {
+  const int nn = membrane().topology().num_nodes;
+  grad.resize(x.size());
+  std::vector<double> energy(num_capsules());
+  std::vector<Vec3> g;
+  for (int c = 0; c < num_capsules(); ++c) {
+    energy[c] = membrane().energy_gradient(&x[c * nn], g);
+    std::copy(g.begin(), g.end(), grad.begin() + c * nn);
+  }
+  return energy;
+}
+
+std::vector<int> Flow::add_repulsion(const std::vector<Vec3>& x, double t,
+                                     std::vector<Vec3>& grad) const {
+  std::vector<int> count(num_capsules(), 0);
+  if (setup_.repulsion.on() && periodic())
+    add_repulsion_gradient(lattice(t), membrane().topology().num_nodes, x,
+                           setup_.repulsion, grad, &count);
+  return count;
+}
+
+} // namespace capsim

@@ -1,0 +1,99 @@
+#pragma once
+// The velocity field of M capsules in simple shear v_inf = (shear_rate y, 0, 0)
+// (shear_rate = 0: quiescent fluid), unbounded or in a sheared periodic box, as the time
+// loop sees it: the traction jump, the node velocities and a time step. Implemented on
+// the CPU (dynamics/cpu_flow.hpp) and on a CUDA device (cuda/device_flow.hpp); one
+// factory (run/flow_factory.hpp) checks a backend's capabilities against the set-up and
+// builds it.
+#include "dynamics/repulsion.hpp"
+#include "membrane/membrane_forces.hpp"
+#include "stokes/ewald_setup.hpp"
+#include "stokes/single_layer.hpp"
+
+#include <climits>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace capsim {
+
+// Where the velocity field is evaluated: the CPU (OpenMP) or one CUDA device.
+enum class Backend { cpu, cuda };
+
+Backend parse_backend(const std::string& name); // throws std::invalid_argument
+std::string to_string(Backend b);
+
+// What defines the flow, whichever backend evaluates it. The membrane is shared, not
+// copied: it must outlive the flow.
+struct FlowSetup {
+  FlowSetup(const Membrane& membrane, int num_capsules = 1, double shear_rate = 1.0)
+      : membrane(membrane), num_capsules(num_capsules), shear_rate(shear_rate) {}
+
+  const Membrane& membrane;
+  int num_capsules;
+  double shear_rate;
+  LoadMapping load = LoadMapping::lumped;
+  QuadratureOptions quadrature;
+  PeriodicBox box;            // box.L = 0: unbounded fluid
+  RepulsionOptions repulsion; // between capsules in a periodic box; off by default
+};
+
+// What a backend can evaluate. Declared once per backend, checked once by the factory.
+struct FlowCapabilities {
+  bool consistent_load = true;        // membrane.load: consistent (a mass-matrix solve)
+  bool bending = true;                // membrane.bending > 0
+  bool repulsion = true;              // suspension.repulsion_force > 0
+  bool direct_sums = true;            // methods direct and patches
+  double max_cut_fraction = INFINITY; // r_cut must stay below this fraction of L
+  int max_spread_support = INT_MAX;   // Spectral-Ewald support P at most this
+};
+
+// "" when `caps` cover `setup`, else one line naming the run key to change and why
+// (`backend` names the backend in the message).
+std::string unsupported_by(const FlowSetup& setup, const FlowCapabilities& caps,
+                           Backend backend);
+
+class Flow {
+public:
+  explicit Flow(const FlowSetup& setup) : setup_(setup) {}
+  virtual ~Flow() = default;
+  Flow(const Flow&) = delete;
+  Flow& operator=(const Flow&) = delete;
+
+  virtual Backend backend() const = 0;
+
+  // The traction jump q at the nodes (capsule after capsule) at positions x and time t:
+  // the membrane load, plus the repulsion between capsules when it is on.
+  virtual void traction(const std::vector<Vec3>& x, double t,
+                        std::vector<Vec3>& q) const = 0;
+
+  // Node velocities u at positions x and time t (the time sets the lattice strain).
+  virtual void velocity(const std::vector<Vec3>& x, double t,
+                        std::vector<Vec3>& u) const = 0;
+
+  // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta):
+  // x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t + dt)).
+  virtual void heun_step(std::vector<Vec3>& x, double t, double dt) const;
+
+  // On the CPU for every backend (the diagnostics need them between steps):
+  // dW/dx of all capsules (capsule after capsule), returning the energy of each;
+  std::vector<double> energy_gradient(const std::vector<Vec3>& x,
+                                      std::vector<Vec3>& grad) const;
+  // adds the repulsion's dE/dx at (x, t) to grad when it is on, returning per capsule
+  // the nodes within its range of another capsule (zeros when off).
+  std::vector<int> add_repulsion(const std::vector<Vec3>& x, double t,
+                                 std::vector<Vec3>& grad) const;
+
+  const FlowSetup& setup() const { return setup_; }
+  const Membrane& membrane() const { return setup_.membrane; }
+  int num_capsules() const { return setup_.num_capsules; }
+  bool periodic() const { return setup_.box.L > 0; }
+  ShearedLattice lattice(double t) const {
+    return make_sheared_lattice(setup_.box.L, setup_.shear_rate * t);
+  }
+
+protected:
+  FlowSetup setup_;
+};
+
+} // namespace capsim

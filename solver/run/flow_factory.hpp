@@ -1,0 +1,20 @@
+#pragma once
+// The one place that turns a backend name into a flow: checks that the backend can run
+// here and can evaluate the set-up, then builds it.
+#include "dynamics/flow.hpp"
+
+#include <memory>
+
+namespace capsim {
+
+// What `backend` can evaluate.
+FlowCapabilities capabilities_of(Backend backend);
+
+// Throws ConfigError, one line naming the key to change, when `backend` cannot run here
+// or lacks a capability the set-up needs.
+void check_flow_supported(Backend backend, const FlowSetup& setup);
+
+// check_flow_supported, then the flow on `backend`.
+std::unique_ptr<Flow> make_flow(Backend backend, const FlowSetup& setup);
+
+} // namespace capsim

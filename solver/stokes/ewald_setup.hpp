@@ -1,0 +1,52 @@
+#pragma once
+// One home for the set-up of the periodic sums: the method, and the choice of xi, the
+// cut-offs and the Spectral-Ewald grid from one tolerance. A run, `capsim bench` and the
+// backend self-test all build their box here.
+#include "stokes/periodic_single_layer.hpp"
+#include "stokes/periodic_stokeslet.hpp"
+#include "stokes/spectral_ewald.hpp"
+
+#include <cmath>
+#include <string>
+
+namespace capsim {
+
+// How the reciprocal (smooth) part of the periodic sum is taken: Spectral Ewald (FFTs on
+// a grid), directly over the quadrature points (plain Ewald, the reference), or directly
+// over multipole patches (the paper's coarse graining, section 3.1).
+enum class EwaldMethod { spectral, direct, patches };
+
+EwaldMethod parse_ewald_method(const std::string& name); // throws std::invalid_argument
+std::string to_string(EwaldMethod m);
+
+// The periodic box of a suspension: a cube of side L sheared with the flow (Lees-Edwards:
+// the lattice strain offset is shear_rate * t). L = 0 means unbounded fluid.
+struct PeriodicBox {
+  double L = 0;
+  EwaldMethod method = EwaldMethod::spectral;
+  EwaldParameters ewald;
+  SpectralParameters grid; // method spectral: its grid
+  int patch_level = 1;     // method patches: patches are the faces of this level
+};
+
+// What a run asks of the periodic sums.
+struct EwaldRequest {
+  EwaldMethod method = EwaldMethod::spectral;
+  double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
+  double xi = 0;           // splitting parameter; <= 0: automatic
+  int patch_level = 1;     // method patches
+  // The automatic xi keeps r_cut below this fraction of L (a backend's limit).
+  double max_cut_fraction = INFINITY;
+};
+
+// The box of side L for `request`: xi as given, or (xi <= 0) the one of least modelled
+// cost for `nodes` targets and `points` quadrature points, raised where needed to keep
+// r_cut below max_cut_fraction L; then the cut-offs and, for spectral, the grid.
+PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
+                              long points);
+
+// The reciprocal-sum selection of periodic_single_layer_velocity for this box, with the
+// Spectral-Ewald state (null unless the method is spectral).
+ReciprocalSum reciprocal_sum(const PeriodicBox& box, SpectralEwald* spectral);
+
+} // namespace capsim
