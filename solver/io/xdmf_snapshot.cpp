@@ -39,22 +39,74 @@ std::vector<std::int32_t> all_triangles(const std::vector<std::array<int, 3>>& t
   return out;
 }
 
+bool has_fields(const SnapshotFrame& f, size_t nodes, size_t elements) {
+  const bool any = !f.velocity.empty() || !f.traction.empty() || !f.tension_max.empty() ||
+                   !f.tension_min.empty() || !f.area_dilatation.empty();
+  if (any && (f.velocity.size() != nodes || f.traction.size() != nodes ||
+              f.tension_max.size() != nodes || f.tension_min.size() != nodes ||
+              f.area_dilatation.size() != elements))
+    throw std::runtime_error("snapshot fields do not match the mesh");
+  return any;
+}
+
+void write_vectors(hid_t file, const std::string& name, const std::vector<Vec3>& v) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three doubles");
+  h5::write_dataset(file, name, {v.size(), 3}, reinterpret_cast<const double*>(v.data()));
+}
+
+void write_fields(hid_t file, const SnapshotFrame& frame, int nodes_per_capsule) {
+  std::vector<std::int32_t> capsule(frame.velocity.size());
+  for (size_t i = 0; i < capsule.size(); ++i)
+    capsule[i] = std::int32_t(i / nodes_per_capsule);
+  h5::write_dataset(file, "/capsule", {capsule.size()}, capsule.data());
+  write_vectors(file, "/velocity", frame.velocity);
+  write_vectors(file, "/traction", frame.traction);
+  h5::write_dataset(file, "/tension_max", {frame.tension_max.size()},
+                    frame.tension_max.data());
+  h5::write_dataset(file, "/tension_min", {frame.tension_min.size()},
+                    frame.tension_min.data());
+  h5::write_dataset(file, "/area_dilatation", {frame.area_dilatation.size()},
+                    frame.area_dilatation.data());
+}
+
 void write_snapshot_file(const std::string& path, const SnapshotFrame& frame,
                          int num_capsules, const std::vector<Vec3>& positions,
-                         const std::vector<std::int32_t>& triangles) {
+                         const std::vector<std::int32_t>& triangles, bool fields) {
   h5::Handle file = h5::create_file(path);
-  std::vector<double> xyz;
-  xyz.reserve(3 * positions.size());
-  for (const Vec3& p : positions)
-    xyz.insert(xyz.end(), {p.x, p.y, p.z});
   h5::write_scalar<double>(file.get(), "/time", frame.time);
   h5::write_scalar<double>(file.get(), "/box_side", frame.box_side);
   h5::write_scalar<double>(file.get(), "/strain", frame.strain);
   h5::write_scalar<int>(file.get(), "/num_capsules", num_capsules);
-  h5::write_dataset(file.get(), "/nodes", {positions.size(), 3}, xyz.data());
+  write_vectors(file.get(), "/nodes", positions);
   h5::write_dataset(file.get(), "/triangles", {triangles.size() / 3, 3},
                     triangles.data());
+  if (fields)
+    write_fields(file.get(), frame, int(positions.size() / num_capsules));
   file.close("the file");
+}
+
+// One XDMF attribute: `dims` "N" (scalar) or "N 3" (vector), centred on nodes or cells.
+std::string attribute_xml(const SnapshotIndexEntry& e, const std::string& name,
+                          bool vector, bool cell, bool integer = false) {
+  const std::string n = std::to_string(cell ? e.num_triangles : e.num_nodes);
+  return "        <Attribute Name=\"" + name + "\" AttributeType=\"" +
+         (vector ? "Vector" : "Scalar") + "\" Center=\"" + (cell ? "Cell" : "Node") +
+         "\">\n          <DataItem Dimensions=\"" + n + (vector ? " 3" : "") +
+         "\" NumberType=\"" +
+         (integer ? "Int\" Precision=\"4" : "Float\" Precision=\"8") +
+         "\" Format=\"HDF\">" + e.h5_name + ":/" + name +
+         "</DataItem>\n        </Attribute>\n";
+}
+
+std::string attributes_xml(const SnapshotIndexEntry& e) {
+  if (!e.fields)
+    return "";
+  return attribute_xml(e, "capsule", false, false, true) +
+         attribute_xml(e, "velocity", true, false) +
+         attribute_xml(e, "traction", true, false) +
+         attribute_xml(e, "tension_max", false, false) +
+         attribute_xml(e, "tension_min", false, false) +
+         attribute_xml(e, "area_dilatation", false, true);
 }
 
 std::string grid_xml(const SnapshotIndexEntry& e) {
@@ -76,8 +128,8 @@ std::string grid_xml(const SnapshotIndexEntry& e) {
          "          <DataItem Dimensions=\"" +
          n + " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" + e.h5_name +
          ":/nodes</DataItem>\n"
-         "        </Geometry>\n"
-         "      </Grid>\n";
+         "        </Geometry>\n" +
+         attributes_xml(e) + "      </Grid>\n";
 }
 
 std::string xdmf_text(const std::vector<SnapshotIndexEntry>& entries) {
@@ -102,6 +154,7 @@ void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame&
                     std::vector<SnapshotIndexEntry>& entries) {
   const std::string name = snapshot_name(index);
   const std::string path = (fs::path(run_dir) / name).string();
+  bool fields = false;
   try {
     if (num_capsules < 1 || positions.size() % num_capsules != 0)
       throw std::runtime_error(std::to_string(positions.size()) +
@@ -109,8 +162,9 @@ void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame&
                                std::to_string(num_capsules) + " capsules");
     const int nodes_per_capsule = static_cast<int>(positions.size() / num_capsules);
     const auto all = all_triangles(triangles, num_capsules, nodes_per_capsule);
+    fields = has_fields(frame, positions.size(), all.size() / 3);
     fs::create_directories(fs::path(path).parent_path());
-    write_snapshot_file(path, frame, num_capsules, positions, all);
+    write_snapshot_file(path, frame, num_capsules, positions, all, fields);
   } catch (const std::exception& e) { // also filesystem_error from create_directories
     throw std::runtime_error("cannot write snapshot " + path + ": " + e.what());
   }
@@ -120,7 +174,7 @@ void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame&
     entries.resize(index);
   const long num_triangles = static_cast<long>(triangles.size()) * num_capsules;
   entries.push_back(
-      {name, frame.time, static_cast<long>(positions.size()), num_triangles});
+      {name, frame.time, static_cast<long>(positions.size()), num_triangles, fields});
   write_text_atomically((fs::path(run_dir) / "snapshots.xdmf").string(),
                         xdmf_text(entries));
 }
@@ -142,8 +196,9 @@ std::vector<SnapshotIndexEntry> list_snapshots(const std::string& run_dir, long 
       if (nodes.size() != 2 || triangles.size() != 2)
         throw std::runtime_error("/nodes or /triangles is not a table");
       const double time = h5::read_scalar<double>(file.get(), "/time");
+      const bool fields = H5Lexists(file.get(), "/velocity", H5P_DEFAULT) > 0;
       return SnapshotIndexEntry{name, time, static_cast<long>(nodes[0]),
-                                static_cast<long>(triangles[0])};
+                                static_cast<long>(triangles[0]), fields};
     }));
   }
   return entries;

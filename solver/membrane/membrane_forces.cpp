@@ -36,6 +36,15 @@ Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, doubl
   }
 }
 
+std::vector<ElementTensions> Membrane::element_tensions(const Vec3* x) const {
+  std::vector<ElementTensions> out(refs_.size());
+  for (size_t e = 0; e < refs_.size(); ++e) {
+    const auto& t = topo_.triangles[e];
+    out[e] = neo_hookean_tensions(refs_[e], x[t[0]], x[t[1]], x[t[2]]);
+  }
+  return out;
+}
+
 double Membrane::energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const {
   grad.assign(topo_.num_nodes, Vec3{});
   double w = 0;

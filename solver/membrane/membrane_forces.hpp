@@ -39,6 +39,9 @@ public:
   void nodal_load(const Vec3* x, const std::vector<Vec3>& grad, LoadMapping mapping,
                   std::vector<Vec3>& q) const;
 
+  // Principal tensions and area dilatation of every element at positions x.
+  std::vector<ElementTensions> element_tensions(const Vec3* x) const;
+
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
   double bending_modulus() const { return kb_; }

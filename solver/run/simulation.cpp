@@ -111,6 +111,7 @@ private:
   void flush_samples();
   void save_checkpoint();
   void save_snapshot();
+  void add_snapshot_fields(SnapshotFrame& frame) const;
   void report_progress(Clock::time_point begin, long first_step, bool force);
   void keep_in_box();
   void step_until_end(Clock::time_point begin, long first);
@@ -284,8 +285,38 @@ void RunLoop::save_snapshot() {
     frame.box_side = box().L;
     frame.strain = flow_->lattice(frame.time).s;
   }
+  add_snapshot_fields(frame);
   write_snapshot(dir_, long(snapshots_.size()), frame, mesh_.topology.triangles,
                  o_.capsules, x_, snapshots_);
+}
+
+// Velocity and traction (one more evaluation of the flow: one per snapshot, against two
+// per step); the principal tensions at a node are the means over its elements weighted
+// by their reference areas.
+void RunLoop::add_snapshot_fields(SnapshotFrame& frame) const {
+  flow_->velocity(x_, frame.time, frame.velocity);
+  flow_->traction(x_, frame.time, frame.traction);
+  const Topology& topo = mesh_.topology;
+  const int nn = topo.num_nodes;
+  std::vector<double> weight(x_.size(), 0.0);
+  frame.tension_max.assign(x_.size(), 0.0);
+  frame.tension_min.assign(x_.size(), 0.0);
+  for (int c = 0; c < o_.capsules; ++c) {
+    const std::vector<ElementTensions> t = membrane_.element_tensions(&x_[c * nn]);
+    for (size_t e = 0; e < t.size(); ++e) {
+      const double w = membrane_.references()[e].area0;
+      for (int node : topo.triangles[e]) {
+        frame.tension_max[c * nn + node] += w * t[e].t1;
+        frame.tension_min[c * nn + node] += w * t[e].t2;
+        weight[c * nn + node] += w;
+      }
+      frame.area_dilatation.push_back(t[e].dilatation);
+    }
+  }
+  for (size_t i = 0; i < x_.size(); ++i) {
+    frame.tension_max[i] /= weight[i];
+    frame.tension_min[i] /= weight[i];
+  }
 }
 
 void RunLoop::report_progress(Clock::time_point begin, long first_step, bool force) {

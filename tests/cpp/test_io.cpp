@@ -252,8 +252,25 @@ TEST_CASE("io: xdmf snapshots and their index") {
   for (int i = 0; i < 8; ++i)
     positions.push_back({1.0 * i, 0, 0});
   std::vector<SnapshotIndexEntry> entries;
-  write_snapshot(run_dir, 0, {0.0, 7.5, 0.25}, triangles, 2, positions, entries);
-  write_snapshot(run_dir, 1, {0.5, 7.5, 0.3}, triangles, 2, positions, entries);
+  SnapshotFrame plain;
+  plain.box_side = 7.5;
+  plain.strain = 0.25;
+  write_snapshot(run_dir, 0, plain, triangles, 2, positions, entries);
+  // The second with fields: per node (8) and per element (2 capsules x 2 triangles).
+  SnapshotFrame frame = plain;
+  frame.time = 0.5;
+  frame.strain = 0.3;
+  frame.velocity = frame.traction = positions;
+  frame.tension_max.assign(8, 0.7);
+  frame.tension_min.assign(8, -0.1);
+  frame.area_dilatation = {1.0, 1.1, 1.2, 1.3};
+  write_snapshot(run_dir, 1, frame, triangles, 2, positions, entries);
+  // Fields that do not match the mesh are refused, naming the file.
+  SnapshotFrame short_fields = frame;
+  short_fields.area_dilatation.pop_back();
+  CHECK_THROWS_WITH(
+      write_snapshot(run_dir, 2, short_fields, triangles, 2, positions, entries),
+      Contains("snapshot_000002.h5") && Contains("do not match"));
 
   REQUIRE(entries.size() == 2);
   REQUIRE(fs::exists(dir.path / "snapshots/snapshot_000000.h5"));
@@ -274,6 +291,18 @@ TEST_CASE("io: xdmf snapshots and their index") {
   CHECK(h5::read_scalar<double>(file.get(), "/box_side") == 7.5);
   CHECK(h5::read_scalar<double>(file.get(), "/strain") == 0.3);
   CHECK(h5::read_scalar<int>(file.get(), "/num_capsules") == 2);
+  CHECK(h5::read_dataset<std::int32_t>(file.get(), "/capsule", {8}) ==
+        std::vector<std::int32_t>{0, 0, 0, 0, 1, 1, 1, 1});
+  CHECK(h5::read_dataset<double>(file.get(), "/area_dilatation", {4}) ==
+        frame.area_dilatation);
+  CHECK(h5::read_dataset<double>(file.get(), "/velocity", {8, 3})[3 * 5] == 5.0);
+  // Only the snapshot with fields lists them, as node and cell attributes.
+  CHECK(xdmf.find("snapshot_000000.h5:/velocity") == std::string::npos);
+  CHECK_THAT(xdmf, Contains("<Attribute Name=\"velocity\" AttributeType=\"Vector\" "
+                            "Center=\"Node\">"));
+  CHECK_THAT(xdmf, Contains("<Attribute Name=\"area_dilatation\" "
+                            "AttributeType=\"Scalar\" Center=\"Cell\">"));
+  CHECK_THAT(xdmf, Contains("snapshots/snapshot_000001.h5:/tension_min"));
 
   const auto listed = list_snapshots(run_dir, 1);
   REQUIRE(listed.size() == 1);
@@ -283,6 +312,8 @@ TEST_CASE("io: xdmf snapshots and their index") {
   REQUIRE(second.time == 0.5);
   REQUIRE(second.num_nodes == 8);
   REQUIRE(second.num_triangles == 4);
+  CHECK(second.fields);
+  CHECK_FALSE(listed[0].fields);
 }
 
 TEST_CASE("io: json writer escapes strings and writes null for non-finite numbers") {

@@ -115,3 +115,37 @@ TEST_CASE("membrane: consistent and lumped loads give the same total force",
   CHECK(norm(tc) < 1e-10);
   CHECK_THROWS_WITH(parse_load_mapping("exact"), Catch::Contains("membrane.load"));
 }
+
+TEST_CASE("membrane: principal tensions of stretched elements match eq. 2.10",
+          "[membrane]") {
+  // A sphere inflated to radius alpha: isotropic T = Gs (1 - alpha^-6) in every element,
+  // area dilatation alpha^2 (exact: every element is scaled by alpha).
+  Icosphere s = make_icosphere(2);
+  const Membrane membrane(s.topology, s.positions.data(), 1.0);
+  const double alpha = 1.1;
+  auto x = testing::stretched(s.positions, alpha, alpha, alpha);
+  for (const ElementTensions& t : membrane.element_tensions(x.data())) {
+    CHECK(t.t1 == Approx(1 - std::pow(alpha, -6)).epsilon(1e-12));
+    CHECK(t.t2 == Approx(1 - std::pow(alpha, -6)).epsilon(1e-12));
+    CHECK(t.dilatation == Approx(alpha * alpha).epsilon(1e-12));
+  }
+  // One flat element stretched by 1.3 along x, unchanged along y: T1 = (l1^2 - 1/J^2)/J
+  // with J = 1.3, T2 = (1 - 1/J^2)/J, whatever the orientation in space.
+  const Vec3 X[3] = {{0, 0, 0}, {1, 0, 0}, {0.3, 0.8, 0}};
+  const ElementReference ref = make_element_reference(X[0], X[1], X[2]);
+  const double j = 1.3;
+  const double c = std::cos(0.4), sn = std::sin(0.4);
+  auto deform = [&](Vec3 p) { return Vec3{c * j * p.x, p.y, sn * j * p.x}; };
+  const ElementTensions t =
+      neo_hookean_tensions(ref, deform(X[0]), deform(X[1]), deform(X[2]));
+  CHECK(t.t1 == Approx((j * j - 1 / (j * j)) / j).epsilon(1e-12));
+  CHECK(t.t2 == Approx((1 - 1 / (j * j)) / j).epsilon(1e-12));
+  CHECK(t.dilatation == Approx(j).epsilon(1e-12));
+  // Compressed along y (l2 = 0.8, l1 = 1): the minor tension is negative.
+  auto squeeze = [](Vec3 p) { return Vec3{p.x, 0.8 * p.y, 0}; };
+  const ElementTensions u =
+      neo_hookean_tensions(ref, squeeze(X[0]), squeeze(X[1]), squeeze(X[2]));
+  CHECK(u.t2 == Approx((0.64 - 1 / 0.64) / 0.8).epsilon(1e-12));
+  CHECK(u.t2 < 0);
+  CHECK(u.t1 >= u.t2);
+}

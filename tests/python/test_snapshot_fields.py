@@ -1,0 +1,78 @@
+"""The snapshot fields (capsule index, velocity, traction, principal tensions, area
+dilatation) as a third-party XDMF reader (meshio) sees them, checked against what they
+must be: zero load on the undeformed spheres, and no net membrane force on a capsule."""
+
+import subprocess
+from pathlib import Path
+
+import h5py
+import meshio
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+CAPSIM = ROOT / "build" / "capsim"
+CAPSULES, NODES = 2, 42  # mesh level 1: 42 nodes, 80 triangles per capsule
+
+
+@pytest.fixture(scope="module")
+def series(tmp_path_factory):
+    if not CAPSIM.exists():
+        pytest.fail(f"{CAPSIM} is missing: build first (bash scripts/setup.sh)")
+    out = tmp_path_factory.mktemp("run") / "r"
+    subprocess.run([str(CAPSIM), "run", "-q", "--set", "mesh_level=1", "--set", "ca=0.3",
+                    "--set", "phi=0.2", "--set", f"capsules={CAPSULES}",
+                    "--set", "t_end=0.5", "--set", "t_avg_start=0.25",
+                    "--set", "output.snapshot_interval=0.25", "-o", str(out)], check=True)
+    steps = []
+    with meshio.xdmf.TimeSeriesReader(out / "snapshots.xdmf") as reader:
+        _, cells = reader.read_points_cells()
+        for k in range(reader.num_steps):
+            steps.append(reader.read_data(k))
+    return cells[0].data, steps, out
+
+
+def lumped_areas(points, triangles):
+    """A third of the area of every triangle at each of its nodes."""
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    nodal = np.zeros(len(points))
+    for k in range(3):
+        np.add.at(nodal, triangles[:, k], area / 3)
+    return nodal
+
+
+def test_fields_are_present_with_their_shapes(series):
+    triangles, steps, _ = series
+    assert len(steps) == 3  # t = 0, 0.25, 0.5 (to the step grid)
+    for _, point_data, cell_data in steps:
+        assert point_data["velocity"].shape == (CAPSULES * NODES, 3)
+        assert point_data["traction"].shape == (CAPSULES * NODES, 3)
+        assert point_data["tension_max"].shape == (CAPSULES * NODES,)
+        assert np.array_equal(point_data["capsule"], np.repeat(np.arange(CAPSULES), NODES))
+        assert cell_data["area_dilatation"][0].shape == (len(triangles),)
+        assert np.all(np.isfinite(point_data["velocity"]))
+
+
+def test_undeformed_spheres_carry_no_load(series):
+    _, steps, _ = series
+    _, point_data, cell_data = steps[0]
+    assert np.abs(point_data["traction"]).max() < 1e-12
+    assert np.abs(point_data["tension_max"]).max() < 1e-12
+    assert np.abs(point_data["tension_min"]).max() < 1e-12
+    assert np.allclose(cell_data["area_dilatation"][0], 1.0, rtol=0, atol=1e-12)
+
+
+def test_deformed_capsules_carry_no_net_membrane_force(series):
+    triangles, steps, out = series
+    _, point_data, cell_data = steps[-1]
+    with h5py.File(out / "snapshots" / "snapshot_000002.h5", "r") as f:
+        points = f["/nodes"][()]
+    q = point_data["traction"]
+    force = q * lumped_areas(points, triangles)[:, None]  # lumped load: F_i = q_i A_i
+    for c in range(CAPSULES):
+        nodes = slice(c * NODES, (c + 1) * NODES)
+        assert np.abs(force[nodes]).sum() > 1e-3  # the capsules are loaded by now
+        assert np.linalg.norm(force[nodes].sum(axis=0)) < 1e-10 * np.abs(force[nodes]).sum()
+    assert np.all(point_data["tension_max"] >= point_data["tension_min"])
+    assert np.all(cell_data["area_dilatation"][0] > 0)
