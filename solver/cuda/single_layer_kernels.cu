@@ -102,41 +102,43 @@ __global__ void binned_near_kernel(CellBins b, MeshView mesh, const Vec3* x,
 
 void binned_screened_sum(const CellBins& b, double xi, double r_cut, int n, const Vec3* x,
                          const Vec3* ys, const Vec3* fs, Vec3* u) {
-  binned_screened_kernel<<<blocks_for(n), kBlock>>>(b, xi, r_cut, n, x, ys, fs, u);
+  CAPSIM_LAUNCH(binned_screened_kernel, blocks_for(n), kBlock)
+  (b, xi, r_cut, n, x, ys, fs, u);
   check_launch("binned_screened_sum");
 }
 
 void binned_near_corrections(const CellBins& b, const MeshView& mesh, const Vec3* x,
                              const int* tri, const Vec3* wc, const TriangleLoad* loads,
                              NearRule rule, Vec3* u) {
-  binned_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(b, mesh, x, tri, wc, loads,
-                                                               rule, u);
+  CAPSIM_LAUNCH(binned_near_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (b, mesh, x, tri, wc, loads, rule, u);
   check_launch("binned_near_corrections");
 }
 
 void free_far_sum(int n, const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u) {
-  free_far_sum_kernel<<<blocks_for(n), kBlock>>>(n, x, m, y, f, u);
+  CAPSIM_LAUNCH(free_far_sum_kernel, blocks_for(n), kBlock)(n, x, m, y, f, u);
   check_launch("free_far_sum");
 }
 
 void free_near_corrections(const MeshView& mesh, const Vec3* x, const TriangleLoad* loads,
                            const TriangleBounds* bounds, NearRule rule, Vec3* u) {
-  free_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(mesh, x, loads, bounds, rule,
-                                                             u);
+  CAPSIM_LAUNCH(free_near_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (mesh, x, loads, bounds, rule, u);
   check_launch("free_near_corrections");
 }
 
 void screened_far_sum(const ShearedLattice& g, double xi, double r_cut, int n,
                       const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u) {
-  screened_far_sum_kernel<<<blocks_for(n), kBlock>>>(g, xi, r_cut, n, x, m, y, f, u);
+  CAPSIM_LAUNCH(screened_far_sum_kernel, blocks_for(n), kBlock)
+  (g, xi, r_cut, n, x, m, y, f, u);
   check_launch("screened_far_sum");
 }
 
 void periodic_near_corrections(const ShearedLattice& g, const MeshView& mesh,
                                const Vec3* x, const TriangleLoad* loads, NearRule rule,
                                Vec3* u) {
-  periodic_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(g, mesh, x, loads, rule,
-                                                                 u);
+  CAPSIM_LAUNCH(periodic_near_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (g, mesh, x, loads, rule, u);
   check_launch("periodic_near_corrections");
 }
 
