@@ -1,15 +1,17 @@
 // The emulated CUDA runtime (cuda_runtime.h here): device memory is host memory whose
 // allocations are recorded, so that copies, fills and kernel arguments can be checked
-// against them; errors are kept per host thread like the runtime's last error.
+// against them; errors are kept per host thread like the runtime's last error. Each
+// allocation ends at an inaccessible page, so that a kernel writing or reading past its
+// end stops there (a segmentation fault) instead of corrupting other data.
 #include "cuda/emulation/emulated_launch.hpp"
 
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <mutex>
 #include <omp.h>
 #include <string>
+#include <sys/mman.h>
 #include <unistd.h>
 
 namespace capsim_emulation {
@@ -18,9 +20,39 @@ namespace {
 // cudaMalloc aligns to at least 256 bytes.
 constexpr size_t kAlignment = 256;
 
+struct Allocation {
+  size_t bytes = 0;        // as asked for
+  char* mapping = nullptr; // the pages, the guard page last
+  size_t mapped = 0;
+};
+
 std::mutex allocations_mutex;
-std::map<std::uintptr_t, size_t> allocations; // start -> bytes
+std::map<std::uintptr_t, Allocation> allocations; // by start
 thread_local cudaError_t last_error = cudaSuccess;
+
+size_t round_up(size_t n, size_t to) {
+  return (n + to - 1) / to * to;
+}
+
+// The allocation is placed as late in its pages as the alignment allows.
+Allocation map_with_guard(size_t bytes) {
+  const size_t page = size_t(sysconf(_SC_PAGESIZE));
+  Allocation a;
+  a.bytes = bytes;
+  a.mapped = round_up(round_up(bytes, kAlignment), page) + page;
+  void* m =
+      mmap(nullptr, a.mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (m == MAP_FAILED)
+    return {};
+  a.mapping = static_cast<char*>(m);
+  mprotect(a.mapping + a.mapped - page, page, PROT_NONE);
+  return a;
+}
+
+char* start_of(const Allocation& a) {
+  const size_t page = size_t(sysconf(_SC_PAGESIZE));
+  return a.mapping + a.mapped - page - round_up(a.bytes, kAlignment);
+}
 
 cudaError_t fail(cudaError_t e) {
   set_last_error(e);
@@ -40,7 +72,8 @@ bool is_device_range(const void* p, size_t bytes) {
   if (it == allocations.begin())
     return false;
   --it;
-  return a - it->first <= it->second && bytes <= it->second - (a - it->first);
+  const size_t size = it->second.bytes;
+  return a - it->first <= size && bytes <= size - (a - it->first);
 }
 
 bool valid_launch(dim3 grid, dim3 block) {
@@ -59,26 +92,26 @@ using capsim_emulation::fail;
 using capsim_emulation::is_device_range;
 
 cudaError_t cudaMalloc(void** p, size_t bytes) {
-  const size_t rounded = (bytes + capsim_emulation::kAlignment - 1) /
-                         capsim_emulation::kAlignment * capsim_emulation::kAlignment;
-  *p = std::aligned_alloc(capsim_emulation::kAlignment, rounded);
-  if (!*p)
+  const capsim_emulation::Allocation a = capsim_emulation::map_with_guard(bytes);
+  if (!a.mapping)
     return fail(cudaErrorMemoryAllocation);
-  std::memset(*p, 0xff, rounded);
+  *p = capsim_emulation::start_of(a);
+  std::memset(*p, 0xff, bytes);
   const std::lock_guard<std::mutex> lock(capsim_emulation::allocations_mutex);
-  capsim_emulation::allocations[reinterpret_cast<std::uintptr_t>(*p)] = bytes;
+  capsim_emulation::allocations[reinterpret_cast<std::uintptr_t>(*p)] = a;
   return cudaSuccess;
 }
 
 cudaError_t cudaFree(void* p) {
   if (!p)
     return cudaSuccess;
-  {
-    const std::lock_guard<std::mutex> lock(capsim_emulation::allocations_mutex);
-    if (capsim_emulation::allocations.erase(reinterpret_cast<std::uintptr_t>(p)) == 0)
-      return fail(cudaErrorInvalidValue);
-  }
-  std::free(p);
+  const std::lock_guard<std::mutex> lock(capsim_emulation::allocations_mutex);
+  auto& all = capsim_emulation::allocations;
+  const auto it = all.find(reinterpret_cast<std::uintptr_t>(p));
+  if (it == all.end())
+    return fail(cudaErrorInvalidValue);
+  munmap(it->second.mapping, it->second.mapped);
+  all.erase(it);
   return cudaSuccess;
 }
 
