@@ -3,7 +3,8 @@
 # and skips itself when there is nothing to do.
 #
 #   1. Debian packages (compilers, CMake, Ninja, Eigen, HDF5, FFTW, yaml-cpp, CLI11, Catch2,
-#      and python3-venv where `python3 -m venv` would not work): installed only if missing.
+#      Thrust, and python3-venv where `python3 -m venv` would not work): installed only if
+#      missing.
 #   2. .venv/ with the pinned requirements.txt: made again whenever requirements.txt changes.
 #   3. build/: CMake Release build of the solver (with the CUDA backend where nvcc is
 #      found), its tests and benchmarks.
@@ -12,7 +13,8 @@
 # Environment:
 #   CAPSIM_JOBS=N      parallel build jobs (default 2)
 #   CAPSIM_NATIVE=ON   compile with -march=native (default OFF; fast but tied to this CPU)
-#   CAPSIM_CUDA=X      CUDA backend: AUTO (default; built when nvcc is found), ON, OFF
+#   CAPSIM_CUDA=X      CUDA backend: AUTO (default; built when nvcc is found), ON, OFF,
+#                      EMULATE (the device code run on the CPU; test.sh builds it apart)
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -22,8 +24,9 @@ JOBS="${CAPSIM_JOBS:-2}"
 BUILD_DIR=build
 VENV=.venv
 STAMP="$VENV/requirements.sha256"
+# libthrust-dev: the Thrust headers for the CPU emulation of the CUDA backend (test.sh).
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libhdf5-dev
-  libfftw3-dev libyaml-cpp-dev libcli11-dev catch2)
+  libfftw3-dev libyaml-cpp-dev libcli11-dev catch2 libthrust-dev)
 
 log() { printf 'setup: %s\n' "$*"; }
 die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
@@ -110,7 +113,7 @@ main() {
   for arg in "$@"; do
     case "$arg" in
       --no-build) build=0 ;;
-      -h | --help) sed -n '2,15p' "$0"; exit 0 ;;
+      -h | --help) sed -n '2,17p' "$0"; exit 0 ;;
       *) die "unknown argument '$arg' (try --help)" ;;
     esac
   done

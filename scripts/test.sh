@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Runs every test: sets up and builds (scripts/setup.sh), then the C++ suite with ctest and
-# the Python suite with pytest. Both suites always run, so both summaries are printed;
-# pytest's summary is the last line. Exits non-zero if setup or either suite failed.
+# Runs every test: sets up and builds (scripts/setup.sh), then the CUDA backend's self-test
+# on the CPU (the device code in a host-emulation build, build-emulate/), the C++ suite
+# with ctest and the Python suite with pytest. All three always run; pytest's summary is
+# the last line. Exits non-zero if setup or any of them failed.
 #
 # Environment: CAPSIM_JOBS=N (parallel build and test jobs, default 2),
 #              CAPSIM_TEST_TIMEOUT=S (default per-test limit in seconds for ctest, 900).
@@ -12,7 +13,34 @@ cd "$ROOT"
 
 JOBS="${CAPSIM_JOBS:-2}"
 
+# The CUDA backend built with CAPSIM_CUDA=EMULATE (kernels run as loops on the CPU,
+# docs/gpu.md): only the capsim executable, then its comparison with the CPU backend.
+emulated_device_selftest() {
+  local dir=build-emulate
+  local args=(-S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCAPSIM_CUDA=EMULATE
+    -DCAPSIM_TESTS=OFF -DCAPSIM_BENCHMARKS=OFF "-DCAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}")
+  if [ ! -f "$dir/CMakeCache.txt" ] && command -v ninja >/dev/null 2>&1; then
+    args+=(-G Ninja)
+  fi
+  mkdir -p "$dir"
+  cmake "${args[@]}" >"$dir/configure.log" 2>&1 || {
+    cat "$dir/configure.log" >&2
+    return 1
+  }
+  cmake --build "$dir" --target capsim --parallel "$JOBS" || return 1
+  "$dir/capsim" selftest --backend cuda
+}
+
 bash scripts/setup.sh
+
+echo "test: CUDA backend emulated on the CPU (build-emulate/, capsim selftest --backend cuda)"
+emulate_rc=0
+SECONDS=0
+emulated_device_selftest || emulate_rc=$?
+echo "test: emulated device check took ${SECONDS} s"
+if [ "$emulate_rc" -ne 0 ]; then
+  echo "test: emulated CUDA self-test FAILED (exit $emulate_rc); running the suites anyway"
+fi
 
 echo "test: C++ suite (ctest)"
 ctest_rc=0
@@ -30,4 +58,5 @@ pytest_rc=0
 
 # Nothing is printed after this point, so pytest's summary stays the last line.
 if [ "$ctest_rc" -ne 0 ]; then exit "$ctest_rc"; fi
+if [ "$emulate_rc" -ne 0 ]; then exit "$emulate_rc"; fi
 exit "$pytest_rc"

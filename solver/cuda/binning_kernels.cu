@@ -43,7 +43,7 @@ struct Max {
 
 void bin_points(const ShearedLattice& g, int n, int count, const Vec3* p, int* key,
                 int* order, Vec3* scratch, Vec3* wrapped, int* start) {
-  bin_kernel<<<blocks_for(count), kBlock>>>(g, n, count, p, key, scratch);
+  CAPSIM_LAUNCH(bin_kernel, blocks_for(count), kBlock)(g, n, count, p, key, scratch);
   check_launch("bin_points");
   thrust::sequence(thrust::device, order, order + count);
   // A stable sort keeps each cell's points in index order: the same sums on every run.
@@ -55,7 +55,7 @@ void bin_points(const ShearedLattice& g, int n, int count, const Vec3* p, int* k
 }
 
 void gather_by_order(int count, const int* order, const Vec3* in, Vec3* out) {
-  gather_kernel<<<blocks_for(count), kBlock>>>(count, order, in, out);
+  CAPSIM_LAUNCH(gather_kernel, blocks_for(count), kBlock)(count, order, in, out);
   check_launch("gather_by_order");
 }
 
@@ -65,7 +65,7 @@ double max_diameter(int count, const TriangleBounds* bounds) {
 }
 
 void centroids_of(int count, const TriangleBounds* bounds, Vec3* out) {
-  centroid_kernel<<<blocks_for(count), kBlock>>>(count, bounds, out);
+  CAPSIM_LAUNCH(centroid_kernel, blocks_for(count), kBlock)(count, bounds, out);
   check_launch("centroids_of");
 }
 

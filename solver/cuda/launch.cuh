@@ -1,8 +1,20 @@
 #pragma once
-// Launch helpers shared by the .cu files: grid sizes and the error check after a launch.
+// Launch helpers shared by the .cu files: the launch itself, grid sizes and the error
+// check after a launch.
 #include <cuda_runtime.h>
 #include <stdexcept>
 #include <string>
+
+// CAPSIM_LAUNCH(kernel, blocks, threads)(args...) is kernel<<<blocks, threads>>>(args...)
+// under nvcc; in the host emulation (CAPSIM_CUDA=EMULATE), which a host compiler builds,
+// it runs every thread of the grid on the CPU.
+#if defined(CAPSIM_CUDA_EMULATED)
+#include "cuda/emulation/emulated_launch.hpp"
+#define CAPSIM_LAUNCH(kernel, blocks, threads)                                           \
+  ::capsim_emulation::Launch(kernel, blocks, threads)
+#else
+#define CAPSIM_LAUNCH(kernel, blocks, threads) kernel<<<blocks, threads>>>
+#endif
 
 namespace capsim::cuda {
 

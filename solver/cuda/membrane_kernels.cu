@@ -91,37 +91,37 @@ __global__ void heun_combine_kernel(int n, double h, const Vec3* u0, const Vec3*
 
 void element_forces(const MeshView& mesh, double gs, const Vec3* x, Vec3* corner_grad,
                     double* area) {
-  element_forces_kernel<<<blocks_for(mesh.num_triangles()), kBlock>>>(mesh, gs, x,
-                                                                      corner_grad, area);
+  CAPSIM_LAUNCH(element_forces_kernel, blocks_for(mesh.num_triangles()), kBlock)
+  (mesh, gs, x, corner_grad, area);
   check_launch("element_forces");
 }
 
 void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
                   bool lumped_load, Vec3* out) {
-  gather_nodes_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(mesh, corner_grad, area,
-                                                                lumped_load, out);
+  CAPSIM_LAUNCH(gather_nodes_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (mesh, corner_grad, area, lumped_load, out);
   check_launch("gather_nodes");
 }
 
 void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,
                       TriangleLoad* loads, TriangleBounds* bounds, Vec3* y, Vec3* f) {
-  triangle_sources_kernel<<<blocks_for(mesh.num_triangles()), kBlock>>>(mesh, x, q, loads,
-                                                                        bounds, y, f);
+  CAPSIM_LAUNCH(triangle_sources_kernel, blocks_for(mesh.num_triangles()), kBlock)
+  (mesh, x, q, loads, bounds, y, f);
   check_launch("triangle_sources");
 }
 
 void finish_velocity(int n, const Vec3* x, double shear_rate, Vec3* u) {
-  finish_velocity_kernel<<<blocks_for(n), kBlock>>>(n, x, shear_rate, u);
+  CAPSIM_LAUNCH(finish_velocity_kernel, blocks_for(n), kBlock)(n, x, shear_rate, u);
   check_launch("finish_velocity");
 }
 
 void advance(int n, const Vec3* x, double a, const Vec3* u, Vec3* out) {
-  advance_kernel<<<blocks_for(n), kBlock>>>(n, x, a, u, out);
+  CAPSIM_LAUNCH(advance_kernel, blocks_for(n), kBlock)(n, x, a, u, out);
   check_launch("advance");
 }
 
 void heun_combine(int n, double h, const Vec3* u0, const Vec3* u1, Vec3* x) {
-  heun_combine_kernel<<<blocks_for(n), kBlock>>>(n, h, u0, u1, x);
+  CAPSIM_LAUNCH(heun_combine_kernel, blocks_for(n), kBlock)(n, h, u0, u1, x);
   check_launch("heun_combine");
 }
 

@@ -9,55 +9,37 @@
 namespace capsim::cuda {
 namespace {
 
-// One thread per target; the block walks the sources in tiles staged in shared memory,
-// so each source is read from global memory once per block rather than once per thread.
-// Plain doubles there: a __shared__ array may not run Vec3's initialisers.
+// One thread per target, a plain loop over every source. The threads of a warp read the
+// same source together, a broadcast that the L1 and L2 caches serve, so staging sources
+// in shared memory would save little (docs/gpu.md); and a kernel without shared memory
+// and barriers runs unchanged in the host emulation, which cannot honour a barrier.
 template <class Pair>
-__device__ Vec3 tiled_source_sum(Vec3 xi, int m, const Vec3* y, const Vec3* f,
-                                 Pair pair) {
-  __shared__ double ty[3 * kBlock], tf[3 * kBlock];
+__device__ Vec3 source_sum(Vec3 xi, int m, const Vec3* y, const Vec3* f, Pair pair) {
   Vec3 sum;
-  for (int start = 0; start < m; start += kBlock) {
-    const int k = start + threadIdx.x;
-    if (k < m) {
-      ty[3 * threadIdx.x] = y[k].x, ty[3 * threadIdx.x + 1] = y[k].y;
-      ty[3 * threadIdx.x + 2] = y[k].z;
-      tf[3 * threadIdx.x] = f[k].x, tf[3 * threadIdx.x + 1] = f[k].y;
-      tf[3 * threadIdx.x + 2] = f[k].z;
-    }
-    __syncthreads();
-    const int count = min(kBlock, m - start);
-    for (int j = 0; j < count; ++j)
-      sum += pair(xi - Vec3{ty[3 * j], ty[3 * j + 1], ty[3 * j + 2]},
-                  Vec3{tf[3 * j], tf[3 * j + 1], tf[3 * j + 2]});
-    __syncthreads();
-  }
+  for (int k = 0; k < m; ++k)
+    sum += pair(xi - y[k], f[k]);
   return sum;
 }
 
 __global__ void free_far_sum_kernel(int n, const Vec3* x, int m, const Vec3* y,
                                     const Vec3* f, Vec3* u) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  // Threads past n still help to stage tiles; they only skip the store.
-  const Vec3 xi = i < n ? x[i] : Vec3{1e300, 0, 0};
-  const Vec3 sum =
-      tiled_source_sum(xi, m, y, f, [](Vec3 r, Vec3 q) { return stokeslet_apply(r, q); });
   if (i < n)
-    u[i] = sum;
+    u[i] =
+        source_sum(x[i], m, y, f, [](Vec3 r, Vec3 q) { return stokeslet_apply(r, q); });
 }
 
 __global__ void screened_far_sum_kernel(ShearedLattice g, double xi_ewald, double r_cut,
                                         int n, const Vec3* x, int m, const Vec3* y,
                                         const Vec3* f, Vec3* u) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  const Vec3 xi = i < n ? x[i] : Vec3{};
+  if (i >= n)
+    return;
   const double rc2 = r_cut * r_cut;
-  const Vec3 sum = tiled_source_sum(xi, m, y, f, [&](Vec3 r, Vec3 q) {
+  u[i] = source_sum(x[i], m, y, f, [&](Vec3 r, Vec3 q) {
     r = wrap_to_cell(g, r);
     return dot(r, r) < rc2 ? ewald_real_apply(r, q, xi_ewald) : Vec3{};
   });
-  if (i < n)
-    u[i] = sum;
 }
 
 // x_i's vertex index (0-2) in global triangle e, or -1.
@@ -120,41 +102,43 @@ __global__ void binned_near_kernel(CellBins b, MeshView mesh, const Vec3* x,
 
 void binned_screened_sum(const CellBins& b, double xi, double r_cut, int n, const Vec3* x,
                          const Vec3* ys, const Vec3* fs, Vec3* u) {
-  binned_screened_kernel<<<blocks_for(n), kBlock>>>(b, xi, r_cut, n, x, ys, fs, u);
+  CAPSIM_LAUNCH(binned_screened_kernel, blocks_for(n), kBlock)
+  (b, xi, r_cut, n, x, ys, fs, u);
   check_launch("binned_screened_sum");
 }
 
 void binned_near_corrections(const CellBins& b, const MeshView& mesh, const Vec3* x,
                              const int* tri, const Vec3* wc, const TriangleLoad* loads,
                              NearRule rule, Vec3* u) {
-  binned_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(b, mesh, x, tri, wc, loads,
-                                                               rule, u);
+  CAPSIM_LAUNCH(binned_near_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (b, mesh, x, tri, wc, loads, rule, u);
   check_launch("binned_near_corrections");
 }
 
 void free_far_sum(int n, const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u) {
-  free_far_sum_kernel<<<blocks_for(n), kBlock>>>(n, x, m, y, f, u);
+  CAPSIM_LAUNCH(free_far_sum_kernel, blocks_for(n), kBlock)(n, x, m, y, f, u);
   check_launch("free_far_sum");
 }
 
 void free_near_corrections(const MeshView& mesh, const Vec3* x, const TriangleLoad* loads,
                            const TriangleBounds* bounds, NearRule rule, Vec3* u) {
-  free_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(mesh, x, loads, bounds, rule,
-                                                             u);
+  CAPSIM_LAUNCH(free_near_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (mesh, x, loads, bounds, rule, u);
   check_launch("free_near_corrections");
 }
 
 void screened_far_sum(const ShearedLattice& g, double xi, double r_cut, int n,
                       const Vec3* x, int m, const Vec3* y, const Vec3* f, Vec3* u) {
-  screened_far_sum_kernel<<<blocks_for(n), kBlock>>>(g, xi, r_cut, n, x, m, y, f, u);
+  CAPSIM_LAUNCH(screened_far_sum_kernel, blocks_for(n), kBlock)
+  (g, xi, r_cut, n, x, m, y, f, u);
   check_launch("screened_far_sum");
 }
 
 void periodic_near_corrections(const ShearedLattice& g, const MeshView& mesh,
                                const Vec3* x, const TriangleLoad* loads, NearRule rule,
                                Vec3* u) {
-  periodic_near_kernel<<<blocks_for(mesh.num_nodes()), kBlock>>>(g, mesh, x, loads, rule,
-                                                                 u);
+  CAPSIM_LAUNCH(periodic_near_kernel, blocks_for(mesh.num_nodes()), kBlock)
+  (g, mesh, x, loads, rule, u);
   check_launch("periodic_near_corrections");
 }
 

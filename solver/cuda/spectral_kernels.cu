@@ -61,20 +61,20 @@ __global__ void gather_kernel(SpreadGrid s, ShearedLattice g, int n, const Vec3*
 
 void spread(const SpreadGrid& s, const ShearedLattice& g, int count, const Vec3* y,
             const Vec3* f, double* grid) {
-  spread_kernel<<<blocks_for(count), kBlock>>>(s, g, count, y, f, grid);
+  CAPSIM_LAUNCH(spread_kernel, blocks_for(count), kBlock)(s, g, count, y, f, grid);
   check_launch("spread");
 }
 
 void scale_spectrum(const ShearedLattice& g, const SpreadGrid& s, double xi, double c,
                     double* spectrum) {
   const long modes = long(spectrum_modes(s));
-  scale_spectrum_kernel<<<blocks_for(modes), kBlock>>>(g, s, xi, c, spectrum);
+  CAPSIM_LAUNCH(scale_spectrum_kernel, blocks_for(modes), kBlock)(g, s, xi, c, spectrum);
   check_launch("scale_spectrum");
 }
 
 void gather(const SpreadGrid& s, const ShearedLattice& g, int n, const Vec3* x,
             const double* grid, double cell, Vec3* u) {
-  gather_kernel<<<blocks_for(n), kBlock>>>(s, g, n, x, grid, cell, u);
+  CAPSIM_LAUNCH(gather_kernel, blocks_for(n), kBlock)(s, g, n, x, grid, cell, u);
   check_launch("gather");
 }
 
