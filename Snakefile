@@ -19,9 +19,8 @@ configfile: os.path.join(ROOT, "config", "config.yaml")
 validate(config, os.path.join(ROOT, "workflow", "schemas", "config.schema.yaml"))
 
 CAPSIM = config["capsim"] if os.path.isabs(config["capsim"]) else os.path.join(ROOT, config["capsim"])
+# The venv's Python, where the analysis package is installed (pip install -e .).
 PYTHON = sys.executable
-# The analysis package and figure scripts run from any working directory.
-PYTHON_ANALYSIS = f"PYTHONPATH={ROOT} {PYTHON}"
 
 
 include: "workflow/rules/common.smk"

@@ -23,14 +23,13 @@ import json
 import math
 import pathlib
 import subprocess
-import sys
 
 import numpy as np
 
+from analysis.read_run import read_timeseries
+from analysis.rheology import particle_stress
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-from analysis.read_run import read_timeseries  # noqa: E402
-from analysis.rheology import particle_stress  # noqa: E402
 
 OUT = ROOT / "results" / "benchmarks"
 CAPSIM = ROOT / "build" / "capsim"

@@ -3,18 +3,13 @@ dilute and suspension rows, the section 4.2 coefficients per Ca, and saving a fi
 its data (PNG, PDF, CSV) and a footer that states the reductions of the runs it shows."""
 
 import argparse
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+import matplotlib
 
-import matplotlib  # noqa: E402
-
-matplotlib.rc_file(str(ROOT / "figures" / "matplotlibrc"))
+matplotlib.rc_file(str(Path(__file__).with_name("matplotlibrc")))
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402,F401
+import matplotlib.pyplot as plt  # noqa: E402,F401 (after the style and backend are set)
 import numpy as np  # noqa: E402
 
 from analysis import fits  # noqa: E402

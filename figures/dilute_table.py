@@ -6,12 +6,10 @@ Usage: python figures/dilute_table.py --out-md T.md --out-csv T.csv RUN/summary.
 
 import argparse
 import csv
-import math
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from analysis.read_run import read_summary  # noqa: E402
+from analysis.fits import observed_order
+from analysis.read_run import read_summary
 
 QUANTITIES = [
     ("taylor_D", "D"),
@@ -20,14 +18,6 @@ QUANTITIES = [
     ("N1", "[N1]"),
     ("N2", "[N2]"),
 ]
-
-
-def observed_order(coarse, medium, fine):
-    """Order p from three levels with h halving: |f2 - f3| / |f3 - f4| = 2^p."""
-    d1, d2 = abs(medium - coarse), abs(fine - medium)
-    if d1 == 0 or d2 == 0:
-        return float("nan")
-    return math.log2(d1 / d2)
 
 
 def collect(paths):

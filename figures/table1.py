@@ -6,11 +6,9 @@ Writes STEM.md and STEM.csv.
 """
 
 import argparse
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from analysis.tables import read_table, with_data, write_table  # noqa: E402
+from analysis.tables import read_table, with_data, write_table
 
 
 def table_rows(runs):

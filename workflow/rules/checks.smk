@@ -11,5 +11,5 @@ rule check:
     log:
         "results/logs/check.log",
     shell:
-        "{PYTHON_ANALYSIS} -m analysis.check --results results --report {output} "
+        "{PYTHON} -m analysis.check --results results --report {output} "
         "{input.expected} 2>&1 | tee {log}"

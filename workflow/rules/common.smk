@@ -79,7 +79,7 @@ rule run_table:
     params:
         t_start=config["averages"]["t_start"],
     shell:
-        "{PYTHON_ANALYSIS} -m analysis.tables --out {output} --t-start {params.t_start} "
+        "{PYTHON} -m analysis.tables --out {output} --t-start {params.t_start} "
         "{input.suspensions} --own-window {input.dilute} > {log} 2>&1"
 
 

@@ -46,5 +46,5 @@ rule dilute_table:
     log:
         "results/logs/dilute/table.log",
     shell:
-        "{PYTHON_ANALYSIS} {ROOT}/figures/dilute_table.py --out-md {output.table} "
+        "{PYTHON} {ROOT}/figures/dilute_table.py --out-md {output.table} "
         "--out-csv {output.csv} {input} > {log} 2>&1"

@@ -38,7 +38,7 @@ rule figure:
     params:
         options=FIGURE_OPTIONS,
     shell:
-        "{PYTHON_ANALYSIS} {ROOT}/figures/{wildcards.name}.py --out results/figures/{wildcards.name} "
+        "{PYTHON} {ROOT}/figures/{wildcards.name}.py --out results/figures/{wildcards.name} "
         "{params.options} {input} > {log} 2>&1"
 
 
@@ -51,5 +51,5 @@ rule table1:
     log:
         "results/logs/figures/table1.log",
     shell:
-        "{PYTHON_ANALYSIS} {ROOT}/figures/table1.py --out results/figures/table1 {input} "
+        "{PYTHON} {ROOT}/figures/table1.py --out results/figures/table1 {input} "
         "> {log} 2>&1"
