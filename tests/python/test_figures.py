@@ -6,9 +6,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
+from analysis.rheology import stress_factor
 from analysis.tables import COLUMNS, read_table, select, write_table
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -32,7 +32,7 @@ def synthetic_row(ca, phi):
     scale = 1.0 if intrinsic else phi
     mu = a1 * scale + (0 if intrinsic else a2 * phi**2)
     n1 = b1 * scale + (0 if intrinsic else b2 * phi**2)
-    factor = 3 * (phi if phi > 0 else 1) / (4 * math.pi * ca)
+    factor = stress_factor(phi, ca)
     s12, s11_22 = mu / factor, n1 / factor
     diff = math.hypot(2 * s12, s11_22)
     theta = 0.5 * math.degrees(math.atan2(2 * s12, s11_22))
