@@ -1,6 +1,6 @@
 """Particle stress and rheology from the mean stresslet (paper eqs. 4.3-4.5, 4.9, 4.10).
 
-The stresslet is in units of Gs a^2 (../shared/DESIGN.md, section 1). With n_c = phi /
+The stresslet is in units of Gs a^2 (docs/conventions.md). With n_c = phi /
 (4/3 pi a^3) and Gs = mu gammadot a / Ca, the particle stress over mu gammadot is
 Sigma^p = 3 phi / (4 pi Ca) <S> / (Gs a^2).
 """
