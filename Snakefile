@@ -1,8 +1,10 @@
 # The reproduction workflow: `snakemake --cores 2` (or `bash scripts/reproduce.sh`).
 # Thin on purpose: the configuration is read and validated here, each study lives in
-# workflow/rules/<study>.smk. Other configurations: --configfile config/ci.yaml (tiny, a few
-# minutes) or config/paper.yaml (the paper's values). `snakemake check` compares the figure
-# data with config/expected/*.yaml.
+# workflow/rules/<study>.smk, the shared functions in common.smk (apart from the rules, as
+# `snakemake --lint` wants), the suspension run and study tables in runs.smk. Other
+# configurations: --configfile config/ci.yaml (tiny, a few minutes) or config/paper.yaml
+# (the paper's values). `snakemake check` compares the figure data with
+# config/expected/*.yaml.
 import os
 import sys
 
@@ -25,6 +27,7 @@ PYTHON = sys.executable
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/build.smk"
+include: "workflow/rules/runs.smk"
 include: "workflow/rules/dilute.smk"
 include: "workflow/rules/grid.smk"
 include: "workflow/rules/mesh.smk"
