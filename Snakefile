@@ -1,8 +1,10 @@
 # The reproduction workflow: `snakemake --cores 2` (or `bash scripts/reproduce.sh`).
 # Thin on purpose: the configuration is read and validated here, each study lives in
-# workflow/rules/<study>.smk. Other configurations: --configfile config/ci.yaml (tiny, a few
-# minutes) or config/paper.yaml (the paper's values). `snakemake check` compares the figure
-# data with config/expected/*.yaml.
+# workflow/rules/<study>.smk, the shared functions in common.smk (apart from the rules, as
+# `snakemake --lint` wants), the suspension run and study tables in runs.smk. Other
+# configurations: --configfile config/ci.yaml (tiny, a few minutes) or config/paper.yaml
+# (the paper's values). `snakemake check` compares the figure data with
+# config/expected/*.yaml.
 import os
 import sys
 
@@ -19,13 +21,13 @@ configfile: os.path.join(ROOT, "config", "config.yaml")
 validate(config, os.path.join(ROOT, "workflow", "schemas", "config.schema.yaml"))
 
 CAPSIM = config["capsim"] if os.path.isabs(config["capsim"]) else os.path.join(ROOT, config["capsim"])
+# The venv's Python, where the analysis package is installed (pip install -e .).
 PYTHON = sys.executable
-# The analysis package and figure scripts run from any working directory.
-PYTHON_ANALYSIS = f"PYTHONPATH={ROOT} {PYTHON}"
 
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/build.smk"
+include: "workflow/rules/runs.smk"
 include: "workflow/rules/dilute.smk"
 include: "workflow/rules/grid.smk"
 include: "workflow/rules/mesh.smk"

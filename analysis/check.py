@@ -23,6 +23,7 @@ import math
 import sys
 from pathlib import Path
 
+import pandas as pd
 import yaml
 
 from analysis.tables import read_table, select
@@ -69,9 +70,10 @@ def check_one(e, results):
     if len(rows) != 1:
         return False, (f"FAIL {label}: {len(rows)} rows of {path} match {e['where']} "
                        "(need exactly one)")
-    got = rows[0].get(e["column"])
-    if not isinstance(got, float) or math.isnan(got):
+    got = rows.iloc[0].get(e["column"])
+    if not pd.api.types.is_number(got) or isinstance(got, bool) or math.isnan(got):
         return False, f"FAIL {label}: column '{e['column']}' is '{got}', not a number"
+    got = float(got)
     if e.get("value") is not None:
         want = float(e["value"])
         tol = max(float(e.get("abs_tol", 0.0)), float(e.get("rel_tol", 0.0)) * abs(want))

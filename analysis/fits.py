@@ -3,8 +3,11 @@ Krieger-Dougherty relation (paper section 4.2, eqs. 4.6-4.8 and 4.11).
 
 The procedure of section 4.2: the first coefficient (a1, b1) is the dilute-limit value
 ([mu], [N1] of one capsule in unbounded shear); the second (a2, b2) is the least-squares
-fit of (y - c1 phi) = c2 phi^2 over 0 <= phi <= 0.10.
+fit of (y - c1 phi) = c2 phi^2 over 0 <= phi <= 0.10. Also the observed order of mesh
+convergence of the dilute table.
 """
+
+import math
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -80,6 +83,15 @@ def fit_kd_max_packing(phi, mu_sp, intrinsic=EINSTEIN, phi_m0=PHI_RANDOM_CLOSE):
 
     start = min(max(phi_m0, lower * 1.01), 9.99)
     return float(least_squares(residual, [start], bounds=([lower], [10.0])).x[0])
+
+
+def observed_order(coarse, medium, fine):
+    """Order p of mesh convergence from three levels with h halving (the dilute table):
+    |f_medium - f_coarse| / |f_fine - f_medium| = 2^p. NaN when a difference is 0."""
+    d1, d2 = abs(medium - coarse), abs(fine - medium)
+    if d1 == 0 or d2 == 0:
+        return float("nan")
+    return math.log2(d1 / d2)
 
 
 def linear_fit(x, y):

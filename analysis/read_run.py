@@ -14,7 +14,7 @@ Layout of timeseries.h5 (one row per sample; M capsules; see solver/io/timeserie
     /capsule/stresslet        (n, M, 3, 3) in Gs a^2
     /capsule/centroid         (n, M, 3)
 
-Conventions (axes, units, definitions) are those of ../shared/DESIGN.md, section 1.
+Conventions (axes, units, definitions) are those of docs/conventions.md.
 """
 
 import json

@@ -2,12 +2,16 @@
 
 A row holds the run's parameters (from summary.json), its averages over
 [t_start, t_end] (analysis.averages), the rheology (analysis.rheology) and both sides of
-the stresslet decomposition (analysis.stresslet). Figures read only these tables.
+the stresslet decomposition (analysis.stresslet). Figures read only these tables, as
+pandas DataFrames; markdown_table is the one writer of the markdown tables.
 """
 
-import csv
+import numbers
 import sys
 from pathlib import Path
+
+import numpy as np
+import pandas as pd
 
 from analysis.averages import run_averages
 from analysis.read_run import read_summary, read_timeseries
@@ -67,45 +71,57 @@ def stopped_row(run_dir, t_start=None):
     return row
 
 
-def with_data(rows):
+def with_data(table):
     """The rows that hold averages (count > 0): not those of runs stopped too early."""
-    return [r for r in rows if r["count"] > 0]
+    return table[table["count"] > 0]
 
 
 def write_table(path, rows, columns=None):
-    """Write dict rows as CSV with the given column order (default: the first row's)."""
-    columns = list(columns or rows[0].keys())
+    """Write a DataFrame, or dict rows, as CSV; `columns` picks and orders the columns
+    (default: all, in the order they first appear). Missing values are left empty."""
+    table = pd.DataFrame(rows)
+    if columns is not None:
+        table = table.reindex(columns=list(columns))
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
-        w.writeheader()
-        for row in rows:
-            w.writerow(row)
+    table.to_csv(path, index=False)
 
 
 def read_table(path):
-    """Read a CSV table; values that parse as numbers become floats."""
-    with open(path, newline="", encoding="utf-8") as f:
-        return [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    """A CSV table as a DataFrame."""
+    return pd.read_csv(path)
 
 
-def _number(text):
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return text
+def select(table, **match):
+    """The rows whose fields equal every given value: numbers to 1e-9 relative (a value
+    read back from CSV is not always the one written), anything else as text (a column
+    such as seed holds numbers and "mean")."""
+    keep = np.ones(len(table), dtype=bool)
+    for key, want in match.items():
+        if key not in table:
+            return table.iloc[:0]
+        if isinstance(want, numbers.Real) and not isinstance(want, bool):
+            got = pd.to_numeric(table[key], errors="coerce").to_numpy(dtype=float)
+            keep &= np.abs(got - want) <= 1e-9 * max(1.0, abs(want))
+        else:
+            keep &= (table[key].astype(str) == str(want)).to_numpy()
+    return table[keep]
 
 
-def select(rows, **match):
-    """Rows whose fields equal every given value (numbers compared to 1e-9)."""
-    def same(a, b):
-        if isinstance(a, float) or isinstance(b, float):
-            try:
-                return abs(float(a) - float(b)) <= 1e-9 * max(1.0, abs(float(b)))
-            except (TypeError, ValueError):
-                return False
-        return a == b
-    return [r for r in rows if all(same(r.get(k), v) for k, v in match.items())]
+def markdown_table(table, formats=None, headers=None, na_rep="nan"):
+    """A DataFrame as a markdown table: a header line, a rule, one line per row.
+
+    formats: column -> format spec of its values (default: str); headers: the names shown
+    (default: the columns); na_rep: the text of a missing value. The cells are not padded,
+    so a changed value changes one line of a committed table, not its layout.
+    """
+    formats = formats or {}
+    names = list(table.columns) if headers is None else list(headers)
+    lines = ["| " + " | ".join(names) + " |", "|" + "---|" * len(names)]
+    for row in table.itertuples(index=False):
+        cells = [na_rep if pd.isna(value) else format(value, formats.get(column, ""))
+                 for column, value in zip(table.columns, row)]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 def _run_dir(path):

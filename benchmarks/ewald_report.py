@@ -23,6 +23,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from analysis.tables import markdown_table  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUT = ROOT / "results" / "benchmarks"
@@ -71,14 +74,14 @@ def accuracy(capsules, level, methods):
     tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
     rows = [bench(capsules, level, method, tol, strain, repeats=1)
             for strain in (0.0, 0.5) for method in methods for tol in tolerances]
-    lines = ["| method | strain | tolerance | rel. error (RMS) | max rel. error | s/eval |",
-             "|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['method']} | {r['strain']} | {r['tolerance']:.0e} | "
-                     f"{r['rel_error']:.2e} | {r['max_rel_error']:.2e} | "
-                     f"{r['seconds_per_eval']:.3f} |")
+    table = pd.DataFrame(rows)[["method", "strain", "tolerance", "rel_error", "max_rel_error",
+                                "seconds_per_eval"]]
+    text = markdown_table(table, {"tolerance": ".0e", "rel_error": ".2e",
+                                  "max_rel_error": ".2e", "seconds_per_eval": ".3f"},
+                          ["method", "strain", "tolerance", "rel. error (RMS)",
+                           "max rel. error", "s/eval"])
     name = f"accuracy_M{capsules}_L{level}" + suffix(methods)
-    save(name, rows, "\n".join(lines) + "\n")
+    save(name, rows, text + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
     for method in methods:
         marker = MARKERS[method]
@@ -94,17 +97,17 @@ def accuracy(capsules, level, methods):
 def speed(capsules, level, methods):
     rows = [bench(capsules, level, method, tol, repeats=4 if method == "spectral" else 1)
             for method in methods for tol in SPEED_TOLERANCES[method]]
-    lines = ["| method | tolerance | rel. error | s/eval | real space | near | "
-             "spreading | FFT | gathering | grid | r_cut |", "|" + "---|" * 11]
-    for r in rows:
-        s = r["seconds"]
-        lines.append(
-            f"| {r['method']} | {r['tolerance']:.0e} | {r['rel_error']:.2e} | "
-            f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | {s['near']:.3f} | "
-            f"{s.get('spreading', 0):.3f} | {s.get('fft', 0):.3f} | "
-            f"{s.get('gathering', 0):.3f} | {grid_text(r)} | {r['r_cut']:.2f} |")
+    # Only the spectral method spreads, transforms and gathers: 0 s for the others.
+    table = pd.concat([pd.DataFrame(rows)[["method", "tolerance", "rel_error",
+                                           "seconds_per_eval"]],
+                       timings(rows).fillna({k: 0.0 for k in SPECTRAL_STAGES})], axis=1)
+    table = table.assign(grid=[grid_text(r) for r in rows], r_cut=[r["r_cut"] for r in rows])
+    text = markdown_table(table, {"tolerance": ".0e", "rel_error": ".2e", "r_cut": ".2f"}
+                          | {k: ".3f" for k in ["seconds_per_eval"] + STAGES},
+                          ["method", "tolerance", "rel. error", "s/eval", "real space", "near",
+                           "spreading", "FFT", "gathering", "grid", "r_cut"])
     name = f"speed_M{capsules}_L{level}" + suffix(methods)
-    save(name, rows, "\n".join(lines) + "\n")
+    save(name, rows, text + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
     for method in methods:
         sel = [r for r in rows if r["method"] == method]
@@ -122,15 +125,12 @@ def scaling(level, tolerance=1e-4):
     sources = np.array([r["sources"] for r in rows], float)
     seconds = np.array([r["seconds_per_eval"] for r in rows])
     slope = np.polyfit(np.log(sources), np.log(seconds), 1)[0]
+    table = pd.concat([pd.DataFrame(rows)[["capsules", "sources", "nodes", "seconds_per_eval"]],
+                       timings(rows)], axis=1).assign(grid=[grid_text(r) for r in rows])
     lines = [f"Fitted slope d log(seconds) / d log(sources) = {slope:.3f}", "",
-             "| capsules | sources | nodes | s/eval | real space | near | spreading | "
-             "FFT | gathering | grid |", "|" + "---|" * 10]
-    for r in rows:
-        s = r["seconds"]
-        lines.append(f"| {r['capsules']} | {r['sources']} | {r['nodes']} | "
-                     f"{r['seconds_per_eval']:.3f} | {s['real_space']:.3f} | "
-                     f"{s['near']:.3f} | {s['spreading']:.3f} | {s['fft']:.3f} | "
-                     f"{s['gathering']:.3f} | {grid_text(r)} |")
+             markdown_table(table, {k: ".3f" for k in ["seconds_per_eval"] + STAGES},
+                            ["capsules", "sources", "nodes", "s/eval", "real space", "near",
+                             "spreading", "FFT", "gathering", "grid"])]
     name = f"scaling_L{level}"
     save(name, {"slope": slope, "runs": rows}, "\n".join(lines) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -166,14 +166,25 @@ def step(capsules, level, methods, tolerance=1e-4):
         rows.append({"method": method, "capsules": capsules, "mesh_level": level,
                      "tolerance": tolerance, "seconds_per_step": two - one,
                      "setup_seconds": 2 * one - two})
-    lines = ["| method | capsules | level | tolerance | s/step | setup s |",
-             "|---|---|---|---|---|---|"]
-    lines += [f"| {r['method']} | {capsules} | {level} | {tolerance:.0e} | "
-              f"{r['seconds_per_step']:.2f} | {r['setup_seconds']:.2f} |" for r in rows]
+    table = pd.DataFrame(rows)[["method", "capsules", "mesh_level", "tolerance",
+                                "seconds_per_step", "setup_seconds"]]
+    text = markdown_table(table, {"tolerance": ".0e", "seconds_per_step": ".2f",
+                                  "setup_seconds": ".2f"},
+                          ["method", "capsules", "level", "tolerance", "s/step", "setup s"])
     name = f"step_M{capsules}_L{level}" + suffix(methods)
     if tolerance != 1e-4:
         name += f"_tol{tolerance:g}"
-    save(name, rows, "\n".join(lines) + "\n")
+    save(name, rows, text + "\n")
+
+
+# The stages of one evaluation that `capsim bench` times ("seconds"), in table order.
+STAGES = ["real_space", "near", "spreading", "fft", "gathering"]
+SPECTRAL_STAGES = ["spreading", "fft", "gathering"]
+
+
+def timings(rows):
+    """The seconds of each stage, one row per benchmark (NaN for a stage not timed)."""
+    return pd.DataFrame([r["seconds"] for r in rows]).reindex(columns=STAGES)
 
 
 def grid_text(r):

@@ -23,14 +23,15 @@ import json
 import math
 import pathlib
 import subprocess
-import sys
 
 import numpy as np
+import pandas as pd
+
+from analysis.read_run import read_timeseries
+from analysis.rheology import particle_stress
+from analysis.tables import markdown_table
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-from analysis.read_run import read_timeseries  # noqa: E402
-from analysis.rheology import particle_stress  # noqa: E402
 
 OUT = ROOT / "results" / "benchmarks"
 CAPSIM = ROOT / "build" / "capsim"
@@ -129,12 +130,13 @@ def main():
     result = {"case": case, "t_start": a.t_start, "blocks": a.blocks,
               "runs": rows, "comparison": compare}
     (OUT / f"agreement_{case}.json").write_text(json.dumps(result, indent=2) + "\n")
-    lines = ["| method | tolerance | t_e | <D> | error | mu_sp | error | wall s |",
-             "|---|---|---|---|---|---|---|---|"]
-    lines += [f"| {r['method']} | {r['tolerance']:g} | {r['t_end']:g} | {r['D']:.4f} | "
-              f"{r['D_error']:.4f} | "
-              f"{r['mu_sp']:.4f} | {r['mu_sp_error']:.4f} | {r['wall_seconds']:.0f} |"
-              for r in rows]
+    columns = ["method", "tolerance", "t_end", "D", "D_error", "mu_sp", "mu_sp_error",
+               "wall_seconds"]
+    lines = [markdown_table(pd.DataFrame(rows)[columns],
+                            {"tolerance": "g", "t_end": "g", "D": ".4f", "D_error": ".4f",
+                             "mu_sp": ".4f", "mu_sp_error": ".4f", "wall_seconds": ".0f"},
+                            ["method", "tolerance", "t_e", "<D>", "error", "mu_sp", "error",
+                             "wall s"])]
     for name in ("D", "mu_sp"):
         c = compare[name]
         lines.append(f"\n{name}: difference {c['difference']:.2e}, combined error "

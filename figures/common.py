@@ -3,19 +3,15 @@ dilute and suspension rows, the section 4.2 coefficients per Ca, and saving a fi
 its data (PNG, PDF, CSV) and a footer that states the reductions of the runs it shows."""
 
 import argparse
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+import matplotlib
 
-import matplotlib  # noqa: E402
-
-matplotlib.rc_file(str(ROOT / "figures" / "matplotlibrc"))
+matplotlib.rc_file(str(Path(__file__).with_name("matplotlibrc")))
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402,F401
+import matplotlib.pyplot as plt  # noqa: E402,F401 (after the style and backend are set)
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
 from analysis import fits  # noqa: E402
 from analysis.tables import read_table, with_data, write_table  # noqa: E402
@@ -38,8 +34,8 @@ def parse_args(description):
 
 
 def elements(level):
-    """N_E of an icosphere level: 20 * 4^level."""
-    return 20 * 4 ** int(level)
+    """N_E of an icosphere level (or of each of an array of levels): 20 * 4^level."""
+    return 20 * 4 ** np.asarray(level, dtype=int)
 
 
 def _span(values, fmt="{:g}"):
@@ -47,55 +43,60 @@ def _span(values, fmt="{:g}"):
     return fmt.format(values[0]) if len(values) == 1 else ", ".join(fmt.format(v) for v in values)
 
 
+def _rounded(values):
+    return [round(v, 1) for v in values]
+
+
 def footer(rows, t_start=None):
-    """One line: mesh, capsules per box, end time and averaging window of these rows, and
-    the runs that stopped early (averaged up to their stop, or without data)."""
-    finished = [r for r in rows if r.get("ended", "t_end") == "t_end"] or rows
-    susp = [r for r in finished if not r.get("intrinsic")]
-    use = susp or finished
-    parts = [f"N_E = {_span([elements(r['mesh_level']) for r in use], '{:d}')}"]
-    if susp:
-        parts.append(f"M = {_span([int(r['capsules']) for r in susp], '{:d}')}")
-    parts.append(f"gammadot t_e = {_span([round(r['t_end'], 1) for r in use])}")
-    ts = t_start if t_start is not None else _span([r["t_start"] for r in use])
+    """One line: mesh, capsules per box, end time and averaging window of these rows (a
+    run table), and the runs that stopped early (averaged up to their stop, or without
+    data)."""
+    # A table without the column (or a cell left empty) means the runs ran to their end.
+    ended = rows["ended"].fillna("t_end") if "ended" in rows else pd.Series("t_end", rows.index)
+    finished = rows[ended == "t_end"]
+    if finished.empty:
+        finished = rows
+    susp = finished[finished["intrinsic"] == 0]
+    use = finished if susp.empty else susp
+    parts = [f"N_E = {_span(elements(use['mesh_level']), '{:d}')}"]
+    if not susp.empty:
+        parts.append(f"M = {_span(susp['capsules'].astype(int), '{:d}')}")
+    parts.append(f"gammadot t_e = {_span(_rounded(use['t_end']))}")
+    ts = t_start if t_start is not None else _span(use["t_start"])
     parts.append(f"t_s = {ts}")
-    dil = [r for r in finished if r.get("intrinsic")]
-    if dil and susp:
-        parts.append(f"dilute limit: N_E = {_span([elements(r['mesh_level']) for r in dil], '{:d}')}, "
-                     f"average over [{_span([r['t_start'] for r in dil])}, "
-                     f"{_span([round(r['t_end'], 1) for r in dil])}]")
-    early = [r for r in rows if r.get("ended", "t_end") != "t_end"]
-    if early:
+    dil = finished[finished["intrinsic"] != 0]
+    if not dil.empty and not susp.empty:
+        parts.append(f"dilute limit: N_E = {_span(elements(dil['mesh_level']), '{:d}')}, "
+                     f"average over [{_span(dil['t_start'])}, "
+                     f"{_span(_rounded(dil['t_end']))}]")
+    early = rows[ended != "t_end"]
+    if not early.empty:
         parts.append("stopped early: " + ", ".join(
-            f"Ca {r['ca']:g} phi {r['phi']:g} seed {int(r['seed'])} at {r['t_end']:.2f} "
-            f"({r['ended']}{'' if r['count'] > 0 else ', no data in the window'})"
-            for r in early))
+            f"Ca {r.ca:g} phi {r.phi:g} seed {int(r.seed)} at {r.t_end:.2f} "
+            f"({r.ended}{'' if r.count > 0 else ', no data in the window'})"
+            for r in early.itertuples()))
     return "Runs: " + "; ".join(parts)
 
 
 def save(fig, out, rows, caption):
-    """Write OUT.png, OUT.pdf with `caption` under the axes, and the plotted data OUT.csv."""
+    """Write OUT.png, OUT.pdf with `caption` under the axes, and the plotted data OUT.csv
+    (a DataFrame or dict rows; the columns in the order they first appear)."""
     fig.text(0.01, -0.02, caption, ha="left", va="top", fontsize=7, wrap=True)
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out.with_suffix(".png"))
     fig.savefig(out.with_suffix(".pdf"))
-    columns = []
-    for r in rows:
-        columns += [k for k in r if k not in columns]
-    write_table(out.with_suffix(".csv"), rows, columns)
+    write_table(out.with_suffix(".csv"), rows)
 
 
 def grid_rows(path):
-    """The grid table split: (dilute rows by Ca, suspension rows by Ca sorted by phi)."""
+    """The grid table (a DataFrame) and its rows with data split: (all rows, dilute row by
+    Ca, suspension rows by Ca sorted by phi)."""
     rows = read_table(path)
-    dilute = {r["ca"]: r for r in with_data(rows) if r["intrinsic"]}
-    susp = {}
-    for r in with_data(rows):
-        if not r["intrinsic"]:
-            susp.setdefault(r["ca"], []).append(r)
-    for ca in susp:
-        susp[ca].sort(key=lambda r: r["phi"])
+    runs = with_data(rows)
+    dilute = {row["ca"]: row for _, row in runs[runs["intrinsic"] != 0].iterrows()}
+    susp = {ca: group.sort_values("phi", kind="stable")
+            for ca, group in runs[runs["intrinsic"] == 0].groupby("ca")}
     return rows, dilute, susp
 
 
@@ -108,9 +109,8 @@ def coefficients(dilute, susp, key, phi_max):
         if ca not in dilute:
             continue
         c1 = dilute[ca][key]
-        phi = [r["phi"] for r in rows]
         try:
-            c2 = fits.second_coefficient(phi, [r[key] for r in rows], c1, phi_max)
+            c2 = fits.second_coefficient(rows["phi"], rows[key], c1, phi_max)
         except ValueError:
             c2 = float("nan")
         out[ca] = (c1, c2)
@@ -125,7 +125,8 @@ def colors(keys):
 
 
 def phi_with_dilute(dilute_row, rows, key, dilute_value=None):
-    """phi and values of one Ca with the dilute limit at phi = 0 first."""
-    phi = [0.0] + [r["phi"] for r in rows]
+    """phi and values of one Ca (rows: its suspension rows) with the dilute limit at
+    phi = 0 first."""
     first = dilute_row[key] if dilute_value is None else dilute_value
-    return np.array(phi), np.array([first] + [r[key] for r in rows])
+    return (np.concatenate([[0.0], rows["phi"]]),
+            np.concatenate([[first], rows[key]]))

@@ -5,13 +5,13 @@ Usage: python figures/dilute_table.py --out-md T.md --out-csv T.csv RUN/summary.
 """
 
 import argparse
-import csv
-import math
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from analysis.read_run import read_summary  # noqa: E402
+import pandas as pd
+
+from analysis.fits import observed_order
+from analysis.read_run import read_summary
+from analysis.tables import markdown_table, write_table
 
 QUANTITIES = [
     ("taylor_D", "D"),
@@ -22,65 +22,47 @@ QUANTITIES = [
 ]
 
 
-def observed_order(coarse, medium, fine):
-    """Order p from three levels with h halving: |f2 - f3| / |f3 - f4| = 2^p."""
-    d1, d2 = abs(medium - coarse), abs(fine - medium)
-    if d1 == 0 or d2 == 0:
-        return float("nan")
-    return math.log2(d1 / d2)
-
-
 def collect(paths):
-    runs = {}
+    """One row per run: ca, mesh_level and the summary values of QUANTITIES."""
+    runs = []
     for path in paths:
         s = read_summary(Path(path).parent)
         p = s["parameters"]
-        runs[(float(p["ca"]), int(p["mesh_level"]))] = s
-    return runs
+        runs.append({"ca": float(p["ca"]), "mesh_level": int(p["mesh_level"]),
+                     **{key: s[key] for key, _ in QUANTITIES}})
+    return pd.DataFrame(runs)
 
 
 def table_rows(runs):
-    cas = sorted({ca for ca, _ in runs})
-    levels = sorted({lv for _, lv in runs})
-    rows = []
-    for ca in cas:
-        for key, label in QUANTITIES:
-            values = [runs[(ca, lv)][key] if (ca, lv) in runs else float("nan") for lv in levels]
-            order = observed_order(*values[-3:]) if len(levels) >= 3 else float("nan")
-            rows.append({"ca": ca, "quantity": label, "levels": levels, "values": values,
-                         "order": order})
-    return levels, rows
+    """The levels and the table: one row per Ca and quantity (in QUANTITIES order), a
+    column level_<l> per mesh level (NaN where that run is missing) and the observed order
+    from the three finest levels."""
+    labels = [label for _, label in QUANTITIES]
+    long = runs.rename(columns=dict(QUANTITIES)).melt(
+        id_vars=["ca", "mesh_level"], value_vars=labels, var_name="quantity")
+    long["quantity"] = pd.Categorical(long["quantity"], categories=labels, ordered=True)
+    wide = long.pivot(index=["ca", "quantity"], columns="mesh_level", values="value")
+    levels = list(wide.columns)
+    order = (wide.apply(lambda values: observed_order(*values.iloc[-3:]), axis=1)
+             if len(levels) >= 3 else float("nan"))
+    table = wide.rename(columns=lambda lv: f"level_{lv}").assign(order=order)
+    table = table.reset_index().rename_axis(columns=None)
+    table["quantity"] = table["quantity"].astype(str)
+    return levels, table
 
 
 def small_deformation_lines(runs, levels):
     """Small-Ca checks: D -> (25/12) Ca for a neo-Hookean capsule with lambda = 1
     (Barthes-Biesel & Rallison 1981), and [mu] -> 5/2 (Einstein)."""
-    ca = min(ca for ca, _ in runs)
+    ca = runs["ca"].min()
     fine = max(levels)
-    s = runs[(ca, fine)]
+    s = runs[(runs["ca"] == ca) & (runs["mesh_level"] == fine)].iloc[-1]
     d_theory = 25.0 / 12.0 * ca
     return [
         f"Smallest Ca = {ca} at level {fine}: D = {s['taylor_D']:.5f} vs (25/12) Ca = "
         f"{d_theory:.5f} ({100 * (s['taylor_D'] / d_theory - 1):+.2f} %); "
         f"[mu] = {s['mu_sp']:.4f} vs 2.5 ({100 * (s['mu_sp'] / 2.5 - 1):+.2f} %).",
     ]
-
-
-def write_markdown(path, levels, rows, notes):
-    head = "| Ca | quantity | " + " | ".join(f"level {lv}" for lv in levels) + " | order |"
-    lines = [head, "|" + "---|" * (len(levels) + 3)]
-    for r in rows:
-        vals = " | ".join(f"{v:.5g}" for v in r["values"])
-        lines.append(f"| {r['ca']} | {r['quantity']} | {vals} | {r['order']:.2f} |")
-    Path(path).write_text("\n".join(lines + [""] + notes) + "\n")
-
-
-def write_csv(path, levels, rows):
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["ca", "quantity"] + [f"level_{lv}" for lv in levels] + ["order"])
-        for r in rows:
-            w.writerow([r["ca"], r["quantity"]] + r["values"] + [r["order"]])
 
 
 def main():
@@ -90,10 +72,13 @@ def main():
     ap.add_argument("summaries", nargs="+")
     args = ap.parse_args()
     runs = collect(args.summaries)
-    levels, rows = table_rows(runs)
+    levels, table = table_rows(runs)
     notes = small_deformation_lines(runs, levels)
-    write_markdown(args.out_md, levels, rows, notes)
-    write_csv(args.out_csv, levels, rows)
+    formats = {f"level_{lv}": ".5g" for lv in levels} | {"order": ".2f"}
+    headers = ["Ca", "quantity"] + [f"level {lv}" for lv in levels] + ["order"]
+    markdown = markdown_table(table, formats, headers)
+    Path(args.out_md).write_text("\n".join([markdown, ""] + notes) + "\n")
+    write_table(args.out_csv, table)
     print("\n".join(notes))
 
 

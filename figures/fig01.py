@@ -10,9 +10,12 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 import common
 from analysis.tables import read_table
+
+ERRORS = ["error_mean", "error_flow", "error_vorticity", "error_gradient"]
 
 
 def main(args):
@@ -22,25 +25,20 @@ def main(args):
         if not m:
             raise SystemExit(f"fig01: cannot read Ca and level from the name {path}")
         tables.append((float(m.group(1)), int(m.group(2)), read_table(path)))
-    tables.sort()
+    tables.sort(key=lambda t: t[:2])
     fig, axes = common.plt.subplots(1, len(tables), figsize=(3.5 * len(tables), 3.0),
                                     squeeze=False)
     data = []
     for ax, (ca, level, rows), letter in zip(axes[0], tables, "abcdefgh"):
-        patches = sorted({int(r["patches"]) for r in rows})
-        col = common.colors(patches)
-        for p in patches:
-            sel = sorted((r for r in rows if int(r["patches"]) == p), key=lambda r: r["r_over_a"])
-            r = np.array([s["r_over_a"] for s in sel])
-            err = np.array([s["error_mean"] for s in sel])
-            ax.loglog(r, err, "o-", color=col[p], label=f"P = {p}")
-            data += [{"panel": letter, "ca": ca, "mesh_level": level, "patches": p,
-                      "r_over_a": s["r_over_a"], "error_mean": s["error_mean"],
-                      "error_flow": s["error_flow"], "error_vorticity": s["error_vorticity"],
-                      "error_gradient": s["error_gradient"]} for s in sel]
+        rows = rows.astype({"patches": int})
+        col = common.colors(rows["patches"].unique())
+        for p, sel in rows.sort_values("r_over_a", kind="stable").groupby("patches"):
+            ax.loglog(sel["r_over_a"], sel["error_mean"], "o-", color=col[p], label=f"P = {p}")
+            data.append(sel[["r_over_a"] + ERRORS].assign(panel=letter, ca=ca,
+                                                          mesh_level=level, patches=p))
         ax.axhline(1e-2, color="0.6", lw=0.8, ls=":")
-        r0 = np.array([min(s["r_over_a"] for s in rows), max(s["r_over_a"] for s in rows)])
-        ax.loglog(r0, 0.5 * r0[0] / r0 * max(s["error_mean"] for s in rows), "k--", lw=0.8,
+        r0 = np.array([rows["r_over_a"].min(), rows["r_over_a"].max()])
+        ax.loglog(r0, 0.5 * r0[0] / r0 * rows["error_mean"].max(), "k--", lw=0.8,
                   label=r"$\propto (r/a)^{-1}$")
         ax.set(xlabel="r/a", ylabel=r"$\varepsilon$", title=f"({letter}) Ca = {ca:g}")
         ax.legend()
@@ -49,7 +47,8 @@ def main(args):
     caption = ("Figure 1. Relative error of the P-patch multipole expansion against fine "
                "quadrature (eq. 3.11), mean of the three directions; dotted: 1e-2. Capsule: "
                f"the dilute run's last checkpoint, N_E = {', '.join(str(common.elements(l)) for l in levels)}.")
-    common.save(fig, args.out, data, caption)
+    columns = ["panel", "ca", "mesh_level", "patches", "r_over_a"] + ERRORS
+    common.save(fig, args.out, pd.concat(data)[columns], caption)
 
 
 if __name__ == "__main__":

@@ -4,53 +4,20 @@ which move with the shear (Lees-Edwards: the images above and below are shifted 
 the strain offset s L, s = gammadot t wrapped into [-1/2, 1/2)).
 
 Usage: python figures/fig02.py --out results/figures/fig02 [--images xy|all|none] RUN/summary.json ...
-Reads each run's last snapshot (snapshots/snapshot_NNNNNN.h5: /nodes, /triangles, /time).
+Reads each run's last snapshot (analysis.snapshots).
 """
 
 import itertools
 import math
 from pathlib import Path
 
-import h5py
 import numpy as np
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
 import common
 from analysis.read_run import read_summary
 from analysis.rheology import box_side
-
-
-def last_snapshot(run):
-    files = sorted((run / "snapshots").glob("snapshot_*.h5"))
-    if not files:
-        raise SystemExit(f"fig02: {run} has no snapshots (set snapshot_interval > 0)")
-    with h5py.File(files[-1], "r") as f:
-        frame = {k: float(f[k][()]) for k in ("time", "box_side", "strain") if k in f}
-        return f["nodes"][()], f["triangles"][()], frame
-
-
-def strain_offset(t):
-    """Lees-Edwards offset s = gammadot t wrapped into [-1/2, 1/2)."""
-    return t - math.floor(t + 0.5)
-
-
-def wrapped_capsules(nodes, capsules, side, s):
-    """Nodes per capsule, each capsule moved by lattice vectors so its centroid lies in the
-    cube [0, L)^3 (a y-shift by L carries an x-shift by s L)."""
-    out = nodes.reshape(capsules, -1, 3).copy()
-    for c in out:
-        k = math.floor(c[:, 1].mean() / side)
-        c -= k * np.array([s * side, side, 0.0])
-        c -= np.floor(c.mean(axis=0) / side) * np.array([side, 0.0, side])
-    return out
-
-
-def image_offsets(side, s, mode):
-    if mode == "none":
-        return []
-    ks = [-1, 0, 1] if mode == "all" else [0]
-    return [i * np.array([side, 0, 0]) + j * np.array([s * side, side, 0]) + k * np.array([0, 0, side])
-            for i, j, k in itertools.product([-1, 0, 1], [-1, 0, 1], ks) if (i, j, k) != (0, 0, 0)]
+from analysis.snapshots import image_offsets, last_snapshot, strain_offset, wrap_capsules
 
 
 def cube_edges(side):
@@ -63,11 +30,15 @@ def draw(ax, run, mode):
     summary = read_summary(run)
     p = summary["parameters"]
     capsules, phi = int(p["capsules"]), float(p["phi"])
-    nodes, tris, frame = last_snapshot(run)
+    try:
+        frame = last_snapshot(run)
+    except FileNotFoundError as e:
+        raise SystemExit(f"fig02: {e}")
+    nodes, tris = frame["nodes"], frame["triangles"]
     # The snapshot records the box and the lattice strain; older runs' files do not.
     side = frame.get("box_side") or summary.get("box_side") or box_side(capsules, phi)
     s = frame.get("strain", strain_offset(frame["time"]))
-    caps = wrapped_capsules(nodes, capsules, side, s)
+    caps = wrap_capsules(nodes, capsules, side, s)
     per = tris[: len(tris) // capsules] % (len(nodes) // capsules)
     faces = np.concatenate([c[per] for c in caps])
     for off in image_offsets(side, s, mode):

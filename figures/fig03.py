@@ -4,8 +4,6 @@
 Usage: python figures/fig03.py --out results/figures/fig03 results/grid/table.csv
 """
 
-import numpy as np
-
 import common
 from analysis import fits
 

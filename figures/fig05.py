@@ -18,7 +18,7 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     col = common.colors(coef)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
-    phi_max = max(r["phi"] for runs in susp.values() for r in runs)
+    phi_max = max(runs["phi"].max() for runs in susp.values())
     smooth = np.linspace(0, phi_max, 60)
     for ca, (c1, c2) in sorted(coef.items()):
         phi, y = common.phi_with_dilute(dilute[ca], susp[ca], key, dilute_value=0.0)

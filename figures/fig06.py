@@ -17,15 +17,14 @@ def share_figure(args, key, names, number, rigid):
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
     for ca, (c1, c2) in sorted(coef.items()):
-        phi = np.array([r["phi"] for r in susp[ca]])
-        y = np.array([r[key] for r in susp[ca]])
+        phi, y = susp[ca]["phi"].to_numpy(), susp[ca][key].to_numpy()
         first, second, higher = fits.order_shares(phi, y, c1, c2)
         ax_a.plot(phi, first, "o-", color=col[ca], label=f"Ca = {ca:g}")
         ax_b.plot(phi, second, "o-", color=col[ca], label=f"Ca = {ca:g}")
         data += [{"ca": ca, "phi": p, "first_share": f, "second_share": s,
                   "higher_share": h} for p, f, s, h in zip(phi, first, second, higher)]
     if rigid:
-        phi = np.linspace(0.01, max(r["phi"] for r in rows), 40)
+        phi = np.linspace(0.01, rows["phi"].max(), 40)
         a1, a2 = fits.kd_coefficients(2, args.phi_m)
         first, second, higher = fits.order_shares(phi, fits.kd_specific_viscosity(phi, args.phi_m), a1, a2)
         ax_a.plot(phi, first, "k-", label="rigid spheres (KD)")

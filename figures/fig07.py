@@ -16,20 +16,16 @@ def main(args):
     fig, axes = common.plt.subplots(2, 2, figsize=(7.0, 5.6))
     (ax_a, ax_b), (ax_c, ax_d) = axes
     data = []
-    by_phi = {}
-    for r in rows:
-        if not r["intrinsic"]:
-            by_phi.setdefault(r["phi"], []).append(r)
-    col_phi = common.colors(by_phi)
-    for phi, runs in sorted(by_phi.items()):
-        runs.sort(key=lambda r: r["ca"])
-        ca = [r["ca"] for r in runs]
-        ax_a.plot(ca, [r["N1"] for r in runs], "o-", color=col_phi[phi], label=f"phi = {phi:g}")
-        ax_b.plot(ca, [r["N2"] for r in runs], "o-", color=col_phi[phi], label=f"phi = {phi:g}")
-        data += [{"panel": "a,b", "ca": r["ca"], "phi": phi, "N1": r["N1"], "N2": r["N2"]}
-                 for r in runs]
+    # Every suspension row, also those of runs stopped before their window (NaN: no point).
+    susp_rows = rows[rows["intrinsic"] == 0].sort_values("ca", kind="stable")
+    col_phi = common.colors(susp_rows["phi"].unique())
+    for phi, runs in susp_rows.groupby("phi"):
+        ax_a.plot(runs["ca"], runs["N1"], "o-", color=col_phi[phi], label=f"phi = {phi:g}")
+        ax_b.plot(runs["ca"], runs["N2"], "o-", color=col_phi[phi], label=f"phi = {phi:g}")
+        data += [{"panel": "a,b", "ca": r.ca, "phi": phi, "N1": r.N1, "N2": r.N2}
+                 for r in runs.itertuples()]
     col = common.colors(coef)
-    smooth = np.linspace(0, max(by_phi), 60)
+    smooth = np.linspace(0, susp_rows["phi"].max(), 60)
     for ca, (b1, b2) in sorted(coef.items()):
         phi, n1 = common.phi_with_dilute(dilute[ca], susp[ca], "N1", dilute_value=0.0)
         ax_c.plot(phi, n1, "o", color=col[ca], label=f"Ca = {ca:g}")

@@ -5,8 +5,6 @@ against <S1 - S2> cos 2<theta_S> (eq. 4.15), filled symbols the dilute limit;
 Usage: python figures/fig09.py --out results/figures/fig09 results/grid/table.csv
 """
 
-import numpy as np
-
 import common
 
 PANELS = [("S12_principal", "S12", r"$\frac{1}{2}\langle S_1-S_2\rangle\sin 2\langle\theta_S\rangle$",
@@ -22,28 +20,25 @@ def main(args):
     rows, dilute, susp = common.grid_rows(args.inputs[0])
     col = common.colors(susp)
     fig, axes = common.plt.subplots(2, 2, figsize=(7.0, 6.0))
-    data = []
     for ax, (xkey, ykey, xlabel, ylabel, diagonal) in zip(axes.flat, PANELS):
         for ca, runs in sorted(susp.items()):
-            ax.plot([r[xkey] for r in runs], [r[ykey] for r in runs], "o-", mfc="none",
-                    color=col[ca], label=f"Ca = {ca:g}")
+            ax.plot(runs[xkey], runs[ykey], "o-", mfc="none", color=col[ca],
+                    label=f"Ca = {ca:g}")
             if ca in dilute:
                 ax.plot(dilute[ca][xkey], dilute[ca][ykey], "o", color=col[ca])
         if diagonal:
-            lim = [min(r[k] for r in rows for k in (xkey, ykey)),
-                   max(r[k] for r in rows for k in (xkey, ykey))]
+            lim = [rows[[xkey, ykey]].min().min(), rows[[xkey, ykey]].max().max()]
             ax.plot(lim, lim, "k:", lw=0.8)
         ax.set(xlabel=xlabel, ylabel=ylabel)
     for ax, label in zip(axes.flat, "abcd"):
         ax.set_title(f"({label})")
     axes[0, 0].legend()
-    for r in rows:
-        data.append({"ca": r["ca"], "phi": r["phi"], "dilute": int(r["intrinsic"]),
-                     **{k: r[k] for k in ("S12", "S12_principal", "S11_S22",
-                                          "S11_S22_principal", "D", "principal_diff",
-                                          "theta_D_deg", "theta_S_deg")},
-                     "eq_4_14_ratio": r["S12"] / r["S12_principal"],
-                     "eq_4_15_ratio": r["S11_S22"] / r["S11_S22_principal"]})
+    data = rows[["ca", "phi"]].assign(
+        dilute=rows["intrinsic"].astype(int),
+        **{k: rows[k] for k in ("S12", "S12_principal", "S11_S22", "S11_S22_principal", "D",
+                                "principal_diff", "theta_D_deg", "theta_S_deg")},
+        eq_4_14_ratio=rows["S12"] / rows["S12_principal"],
+        eq_4_15_ratio=rows["S11_S22"] / rows["S11_S22_principal"])
     fig.tight_layout()
     caption = ("Figure 9. Left- and right-hand sides of eqs. 4.14 and 4.15 (filled: dilute "
                "limit; open: phi > 0, joined in order of phi); stresslets in Gs a^2. "

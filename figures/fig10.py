@@ -22,7 +22,7 @@ def main(args):
     fig, axes = common.plt.subplots(2, 3, figsize=(9.0, 5.6))
     axes.flat[-1].axis("off")
     data = []
-    smooth = np.linspace(0, max(r["phi"] for r in rows), 40)
+    smooth = np.linspace(0, rows["phi"].max(), 40)
     for ax, (key, label, coef_key), letter in zip(axes.flat, PANELS, "abcde"):
         coef = common.coefficients(dilute, susp, coef_key, args.fit_phi_max) if coef_key else {}
         for ca, runs in sorted(susp.items()):

@@ -5,14 +5,12 @@ standard deviation of the cases at the last t_e.
 Usage: python figures/fig11.py --out results/figures/fig11 [--t-start 10] RUN/summary.json ...
 """
 
-import math
 from pathlib import Path
-
-import numpy as np
 
 import common
 from analysis.averages import ensemble, running_average
 from analysis.read_run import read_summary, read_timeseries
+from analysis.rheology import stress_factor
 
 
 def main(args):
@@ -25,7 +23,7 @@ def main(args):
         t_ends = ts["time"][ts["time"] > args.t_start]
         if t_ends.size == 0:
             raise SystemExit(f"fig11: {run} ends at {ts['time'][-1]}, before t_s = {args.t_start}")
-        factor = 3 * float(p["phi"]) / (4 * math.pi * float(p["ca"]))  # eq. 4.5
+        factor = stress_factor(float(p["phi"]), float(p["ca"]))  # mu_sp from S_xy, eq. 4.5
         d = running_average(ts["D"], ts["time"], args.t_start, t_ends)
         mu = factor * running_average(ts["stresslet"][:, :, 0, 1], ts["time"], args.t_start, t_ends)
         seed = int(p["seed"])

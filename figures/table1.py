@@ -6,30 +6,31 @@ Writes STEM.md and STEM.csv.
 """
 
 import argparse
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from analysis.tables import read_table, with_data, write_table  # noqa: E402
+import pandas as pd
+
+from analysis.tables import markdown_table, read_table, with_data, write_table
 
 
 def table_rows(runs):
-    """Rows of Table 1: one per coarse level, one per case at the finest, and the reference."""
-    finest = max(int(r["mesh_level"]) for r in runs)
-    fine = sorted((r for r in runs if int(r["mesh_level"]) == finest), key=lambda r: r["seed"])
-    ref_d = sum(r["D"] for r in fine) / len(fine)
-    ref_mu = sum(r["mu_sp"] for r in fine) / len(fine)
-    rows = []
-    for r in sorted(runs, key=lambda r: (r["mesh_level"], r["seed"])):
-        n_e = 20 * 4 ** int(r["mesh_level"])
-        case = f" (case {int(r['seed'])})" if int(r["mesh_level"]) == finest and len(fine) > 1 else ""
-        rows.append({"N_E": n_e, "label": f"{n_e}{case}", "seed": int(r["seed"]),
-                     "D": r["D"], "eps_D": abs(r["D"] - ref_d) / ref_d,  # eq. A1
-                     "mu_sp": r["mu_sp"], "eps_mu": abs(r["mu_sp"] - ref_mu) / ref_mu})  # A2
-    n_e = 20 * 4 ** finest
-    rows.append({"N_E": n_e, "label": f"{n_e} (average): reference", "seed": "mean",
-                 "D": ref_d, "eps_D": "", "mu_sp": ref_mu, "eps_mu": ""})
-    return rows
+    """Rows of Table 1: one per coarse level, one per case at the finest, and the reference
+    (a DataFrame)."""
+    finest = runs["mesh_level"].max()
+    fine = runs[runs["mesh_level"] == finest]
+    ref_d, ref_mu = fine["D"].mean(), fine["mu_sp"].mean()
+    runs = runs.sort_values(["mesh_level", "seed"], kind="stable")
+    n_e = 20 * 4 ** runs["mesh_level"].astype(int)
+    cases = (runs["mesh_level"] == finest) & (len(fine) > 1)
+    labels = n_e.astype(str) + runs["seed"].map(lambda s: f" (case {int(s)})").where(cases, "")
+    rows = pd.DataFrame({"N_E": n_e, "label": labels, "seed": runs["seed"].astype(int),
+                         "D": runs["D"], "eps_D": (runs["D"] - ref_d).abs() / ref_d,  # eq. A1
+                         "mu_sp": runs["mu_sp"],
+                         "eps_mu": (runs["mu_sp"] - ref_mu).abs() / ref_mu})  # eq. A2
+    n_e = 20 * 4 ** int(finest)
+    reference = {"N_E": n_e, "label": f"{n_e} (average): reference", "seed": "mean",
+                 "D": ref_d, "mu_sp": ref_mu}
+    return pd.concat([rows, pd.DataFrame([reference])], ignore_index=True)
 
 
 def main():
@@ -37,15 +38,16 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("table")
     args, _ = ap.parse_known_args()
-    runs = [r for r in with_data(read_table(args.table)) if not r["intrinsic"]]
+    runs = with_data(read_table(args.table))
+    runs = runs[runs["intrinsic"] == 0]
     rows = table_rows(runs)
-    r0 = runs[0]
+    r0 = runs.iloc[0]
     out = Path(args.out)
     write_table(out.with_suffix(".csv"), rows)
-    lines = ["| N_E | <D> | eps_D | mu_sp | eps_mu |", "|---|---|---|---|---|"]
-    for r in rows:
-        eps = [f"{r[k]:.4f}" if r[k] != "" else "-" for k in ("eps_D", "eps_mu")]
-        lines.append(f"| {r['label']} | {r['D']:.5f} | {eps[0]} | {r['mu_sp']:.5f} | {eps[1]} |")
+    columns = ["label", "D", "eps_D", "mu_sp", "eps_mu"]
+    lines = [markdown_table(rows[columns], {"D": ".5f", "eps_D": ".4f", "mu_sp": ".5f",
+                                            "eps_mu": ".4f"},
+                            headers=["N_E", "<D>", "eps_D", "mu_sp", "eps_mu"], na_rep="-")]
     lines += ["", f"Table 1. Ca = {r0['ca']:g}, phi = {r0['phi']:g}, M = {int(r0['capsules'])}, "
               f"averages over gammadot t in [{r0['t_start']:g}, {r0['t_end']:.3g}]; errors "
               "(eqs. A1, A2) against the mean of the finest-mesh cases."]

@@ -5,7 +5,8 @@
 #   1. Debian packages (compilers, CMake, Ninja, Eigen, HDF5, FFTW, yaml-cpp, CLI11, Catch2,
 #      Thrust, and python3-venv where `python3 -m venv` would not work): installed only if
 #      missing.
-#   2. .venv/ with the pinned requirements.txt: made again whenever requirements.txt changes.
+#   2. .venv/ with the pinned requirements.txt and the analysis package (pyproject.toml,
+#      editable: `pip install -e .`): made again whenever either file changes.
 #   3. build/: CMake Release build of the solver (with the CUDA backend where nvcc is
 #      found), its tests and benchmarks.
 #
@@ -72,18 +73,23 @@ check_python() {
 
 setup_venv() {
   local want
-  want="$(sha256sum requirements.txt | cut -d' ' -f1)"
+  # Both files decide what goes into the venv: a change to either redoes it.
+  want="$(cat requirements.txt pyproject.toml | sha256sum | cut -d' ' -f1)"
   if [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -c 'import sys' 2>/dev/null &&
     [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "$want" ]; then
     log "python environment up to date ($VENV)"
     return
   fi
   check_python
-  log "creating $VENV with $(python3 -V 2>&1) and installing requirements.txt"
+  log "creating $VENV with $(python3 -V 2>&1), installing requirements.txt and the analysis package"
   rm -rf "$VENV"
   python3 -m venv "$VENV"
   "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-input \
     -r requirements.txt
+  # Editable: the workflow and the figure scripts import the checkout's analysis/ as it is.
+  # --no-deps: the versions are those just pinned by requirements.txt.
+  "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-input \
+    --no-deps -e .
   echo "$want" >"$STAMP"  # written last: an interrupted install is redone next time
   log "python environment ready"
 }

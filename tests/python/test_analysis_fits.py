@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from analysis import fits
-from analysis.rheology import box_side, rheology
+from analysis.rheology import box_side, rheology, stress_factor
 
 
 def test_second_coefficient_recovers_an_exact_quadratic():
@@ -94,10 +94,25 @@ def test_rigid_sphere_stresslet_gives_einstein():
 def test_normal_stress_differences_signs():
     s = np.diag([3.0, 1.0, 0.5])
     r = rheology(s, 0.3, 0.1)
-    factor = 3 * 0.3 / (4 * math.pi * 0.1)
+    factor = stress_factor(0.3, 0.1)
     assert r["N1"] == pytest.approx(2.0 * factor)
     assert r["N2"] == pytest.approx(0.5 * factor)
 
 
 def test_box_side():
     assert box_side(100, 0.3) ** 3 * 0.3 == pytest.approx(100 * 4 * math.pi / 3)
+
+
+def test_box_side_analytic_values():
+    # One sphere of radius 1 in a cube of side 2 fills (4/3) pi / 8 of it; 8 such cubes
+    # (M = 8) at the same phi make a cube of side 4.
+    assert box_side(1, math.pi / 6) == pytest.approx(2.0, rel=1e-15)
+    assert box_side(8, math.pi / 6) == pytest.approx(4.0, rel=1e-15)
+
+
+def test_stress_factor_analytic_values():
+    # 3 phi / (4 pi Ca): phi = 4 pi / 30 at Ca = 0.1 gives 1; phi = 0 gives the intrinsic
+    # factor 3 / (4 pi Ca).
+    assert stress_factor(4 * math.pi / 30, 0.1) == pytest.approx(1.0, rel=1e-15)
+    assert stress_factor(0.0, 0.75 / math.pi) == pytest.approx(1.0, rel=1e-15)
+    assert stress_factor(0.2, 0.75 / math.pi) == pytest.approx(0.2, rel=1e-15)

@@ -10,6 +10,7 @@ import h5py
 import pytest
 
 from analysis.read_run import read_summary, read_timeseries, time_average
+from analysis.rheology import stress_factor
 
 ROOT = Path(__file__).resolve().parents[2]
 CAPSIM = ROOT / "build" / "capsim"
@@ -34,7 +35,7 @@ def test_python_averages_match_the_summary(run_dir):
     assert math.isclose(mean_d, s["taylor_D"], rel_tol=1e-12)
     assert math.isclose(std_d, s["taylor_D_std"], rel_tol=1e-9, abs_tol=1e-15)
     mean_s, _, _ = time_average(ts["stresslet"], ts["time"], s["t_avg_start"], s["t_end"])
-    mu = 3.0 / (4.0 * math.pi * 0.3) * mean_s[0, 1]  # intrinsic [mu] (phi = 0)
+    mu = stress_factor(0.0, 0.3) * mean_s[0, 1]  # intrinsic [mu] (phi = 0)
     assert math.isclose(mu, s["mu_sp"], rel_tol=1e-12)
 
 

@@ -6,15 +6,15 @@ import subprocess
 import sys
 from pathlib import Path
 
+from analysis.fits import observed_order
+
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "figures"))
-import dilute_table  # noqa: E402
 
 
 def test_observed_order_of_a_second_order_sequence():
     # f(h) = 1 + 3 h^2 with h = 0.4, 0.2, 0.1
     f = [1 + 3 * h * h for h in (0.4, 0.2, 0.1)]
-    assert math.isclose(dilute_table.observed_order(*f), 2.0, rel_tol=1e-12)
+    assert math.isclose(observed_order(*f), 2.0, rel_tol=1e-12)
 
 
 def test_table_end_to_end(tmp_path):

@@ -6,9 +6,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
+from analysis.rheology import stress_factor
 from analysis.tables import COLUMNS, read_table, select, write_table
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -32,7 +32,7 @@ def synthetic_row(ca, phi):
     scale = 1.0 if intrinsic else phi
     mu = a1 * scale + (0 if intrinsic else a2 * phi**2)
     n1 = b1 * scale + (0 if intrinsic else b2 * phi**2)
-    factor = 3 * (phi if phi > 0 else 1) / (4 * math.pi * ca)
+    factor = stress_factor(phi, ca)
     s12, s11_22 = mu / factor, n1 / factor
     diff = math.hypot(2 * s12, s11_22)
     theta = 0.5 * math.degrees(math.atan2(2 * s12, s11_22))
@@ -66,7 +66,7 @@ def run_figure(name, out_dir, *inputs):
 
 @pytest.mark.parametrize("name", ["fig03", "fig04", "fig06", "fig08", "fig09", "fig10"])
 def test_grid_figures_run(name, grid_table, tmp_path):
-    assert run_figure(name, tmp_path, grid_table)
+    assert not run_figure(name, tmp_path, grid_table).empty
 
 
 def test_a_run_stopped_before_its_window_changes_no_coefficient(tmp_path):
@@ -81,31 +81,31 @@ def test_a_run_stopped_before_its_window_changes_no_coefficient(tmp_path):
     write_table(path, rows + [stopped], COLUMNS)
     out = run_figure("fig05", tmp_path, path)
     for ca in CAS:
-        (row,) = select(out, panel="b", ca=ca)
+        (row,) = select(out, panel="b", ca=ca).to_dict("records")
         assert (row["a1"], row["a2"]) == pytest.approx(a_coef(ca))
     for name in ("fig03", "fig07", "fig10"):
-        assert run_figure(name, tmp_path, path)
+        assert not run_figure(name, tmp_path, path).empty
 
 
 def test_fig05_recovers_a1_a2_and_krieger_dougherty(grid_table, tmp_path):
     rows = run_figure("fig05", tmp_path, grid_table)
     for ca in CAS:
-        (row,) = select(rows, panel="b", ca=ca)
+        (row,) = select(rows, panel="b", ca=ca).to_dict("records")
         assert (row["a1"], row["a2"]) == pytest.approx(a_coef(ca))
-    (kd,) = select(rows, series="krieger-dougherty")
+    (kd,) = select(rows, series="krieger-dougherty").to_dict("records")
     assert kd["a2"] == pytest.approx(5.109, abs=1e-3)
 
 
 def test_fig07_recovers_b1_b2(grid_table, tmp_path):
     rows = run_figure("fig07", tmp_path, grid_table)
     for ca in CAS:
-        (row,) = select(rows, panel="d", ca=ca)
+        (row,) = select(rows, panel="d", ca=ca).to_dict("records")
         assert (row["b1"], row["b2"]) == pytest.approx(b_coef(ca))
 
 
 def test_fig06_shares_of_an_exact_quadratic(grid_table, tmp_path):
     rows = run_figure("fig06", tmp_path, grid_table)
-    (row,) = select(rows, ca=0.1, phi=0.3)
+    (row,) = select(rows, ca=0.1, phi=0.3).to_dict("records")
     assert row["higher_share"] == pytest.approx(0.0, abs=1e-12)
     a1, a2 = a_coef(0.1)
     assert row["first_share"] == pytest.approx(a1 * 0.3 / (a1 * 0.3 + a2 * 0.09))
@@ -113,11 +113,11 @@ def test_fig06_shares_of_an_exact_quadratic(grid_table, tmp_path):
 
 def test_fig10_ratio_is_one_plus_a2_over_a1_phi(grid_table, tmp_path):
     rows = run_figure("fig10", tmp_path, grid_table)
-    (row,) = select(rows, panel="a", ca=0.3, phi=0.2)
+    (row,) = select(rows, panel="a", ca=0.3, phi=0.2).to_dict("records")
     a1, a2 = a_coef(0.3)
     assert row["ratio"] == pytest.approx(1 + a2 / a1 * 0.2)
 
 
 def test_fig03_slope(grid_table, tmp_path):
     rows = run_figure("fig03", tmp_path, grid_table)
-    assert select(rows, ca=0.1, phi=0.2)[0]["slope"] == pytest.approx(0.3)
+    assert select(rows, ca=0.1, phi=0.2)["slope"].iloc[0] == pytest.approx(0.3)

@@ -5,11 +5,14 @@ rule check:
     input:
         FIGURE_OUTPUTS,
         "results/dilute/table.csv",
+        code=analysis_module("check"),
         expected=[os.path.join(ROOT, f) for f in config["check"]["expected"]],
     output:
         "results/check/report.md",
     log:
         "results/logs/check.log",
+    params:
+        python=PYTHON,
     shell:
-        "{PYTHON_ANALYSIS} -m analysis.check --results results --report {output} "
+        "{params.python} -m analysis.check --results results --report {output} "
         "{input.expected} 2>&1 | tee {log}"

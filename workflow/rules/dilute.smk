@@ -1,12 +1,8 @@
 # The dilute limit (phi = 0): one capsule in unbounded shear for every Ca and mesh level
 # listed in config["dilute"]. Adding a value to a list runs only the new runs. Other studies
 # (grid: phi = 0 of figures 3-10; multipole: figure 1) ask for dilute runs at their own Ca
-# and mesh level through dilute_summary(); they land in the same folders.
+# and mesh level through dilute_summary() (common.smk); they land in the same folders.
 DILUTE = config["dilute"]
-
-
-def dilute_summary(ca, level):
-    return f"results/dilute/ca{ca}_level{level}/summary.json"
 
 
 rule dilute_run:
@@ -39,12 +35,17 @@ rule dilute_run:
 
 rule dilute_table:
     input:
-        expand(dilute_summary("{ca}", "{level}"), ca=DILUTE["ca"], level=DILUTE["mesh_levels"]),
+        script=figure_script("dilute_table"),
+        code=imported_modules(figure_script("dilute_table")),
+        summaries=expand(dilute_summary("{ca}", "{level}"), ca=DILUTE["ca"],
+                         level=DILUTE["mesh_levels"]),
     output:
         table="results/dilute/table.md",
         csv="results/dilute/table.csv",
     log:
         "results/logs/dilute/table.log",
+    params:
+        python=PYTHON,
     shell:
-        "{PYTHON_ANALYSIS} {ROOT}/figures/dilute_table.py --out-md {output.table} "
-        "--out-csv {output.csv} {input} > {log} 2>&1"
+        "{params.python} {input.script} --out-md {output.table} "
+        "--out-csv {output.csv} {input.summaries} > {log} 2>&1"

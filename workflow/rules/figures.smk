@@ -24,9 +24,14 @@ FIGURE_OPTIONS = (f"--t-start {config['averages']['t_start']} "
                   f"--images {config['figures']['snapshot_images']}")
 
 
+# A script, the modules it imports and the style are inputs: editing one redraws the
+# figures that use it.
 rule figure:
     input:
-        lambda wc: FIGURE_INPUTS[wc.name](),
+        script=lambda wc: figure_script(wc.name),
+        code=lambda wc: imported_modules(figure_script(wc.name)),
+        style=os.path.join(ROOT, "figures", "matplotlibrc"),
+        data=lambda wc: FIGURE_INPUTS[wc.name](),
     output:
         png="results/figures/{name}.png",
         pdf="results/figures/{name}.pdf",
@@ -36,20 +41,26 @@ rule figure:
     wildcard_constraints:
         name=r"fig\d\d",
     params:
+        python=PYTHON,
+        stem=lambda wc, output: os.path.splitext(output.csv)[0],
         options=FIGURE_OPTIONS,
     shell:
-        "{PYTHON_ANALYSIS} {ROOT}/figures/{wildcards.name}.py --out results/figures/{wildcards.name} "
-        "{params.options} {input} > {log} 2>&1"
+        "{params.python} {input.script} --out {params.stem} {params.options} {input.data} "
+        "> {log} 2>&1"
 
 
 rule table1:
     input:
-        "results/mesh/table.csv",
+        script=figure_script("table1"),
+        code=imported_modules(figure_script("table1")),
+        table="results/mesh/table.csv",
     output:
         md="results/figures/table1.md",
         csv="results/figures/table1.csv",
     log:
         "results/logs/figures/table1.log",
+    params:
+        python=PYTHON,
+        stem=lambda wc, output: os.path.splitext(output.csv)[0],
     shell:
-        "{PYTHON_ANALYSIS} {ROOT}/figures/table1.py --out results/figures/table1 {input} "
-        "> {log} 2>&1"
+        "{params.python} {input.script} --out {params.stem} {input.table} > {log} 2>&1"

@@ -1,12 +1,8 @@
 # Multipole error (figure 1): for each Ca, the capsule of the dilute run at the configured
 # mesh level; `capsim multipole-error` writes the relative error of the P-patch expansion
 # (eq. 3.11) at distances r/a along the flow, vorticity and gradient directions.
+# The tables figure 1 reads: multipole_tables() (common.smk).
 MULTIPOLE = config["multipole"]
-
-
-def multipole_tables():
-    return expand("results/multipole/ca{ca}_level{level}.csv", ca=MULTIPOLE["ca"],
-                  level=MULTIPOLE["mesh_level"])
 
 
 rule multipole_error:
