@@ -191,6 +191,18 @@ const std::vector<Param>& parameters() {
           "dt_safety", {0, 2, true, false},
           [](RunOptions& o) -> double& { return o.dt_safety; },
           "C in the automatic time step dt = C Ca h / (1 + 4 membrane.bending / h^2)"),
+      choice(
+          "time.scheme", {"heun", "imex"},
+          [](RunOptions& o) -> std::string& { return o.time.scheme; },
+          "heun (explicit 2nd-order Runge-Kutta, eq. 3.2: stable for dt ~ Ca h) or imex "
+          "(linearly implicit 2nd-order Rosenbrock-W: each capsule's own membrane "
+          "stiffness implicit, the rest explicit; steps far beyond Ca h)"),
+      real(
+          "time.tolerance", {0, 1, false, false},
+          [](RunOptions& o) -> double& { return o.time.tolerance; },
+          "adaptive step: the largest node position error one step may make, in capsule "
+          "radii (embedded estimate); dt is then only the first step. 0 = a fixed step "
+          "dt"),
       real(
           "t_end", {0, kBig, true, false},
           [](RunOptions& o) -> double& { return o.t_end; },

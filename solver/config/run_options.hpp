@@ -26,6 +26,11 @@ struct EwaldOptions {
   int patch_level = 1;     // method patches: patches = faces of this icosphere level
 };
 
+struct TimeOptions {
+  std::string scheme = "heun"; // heun (explicit) or imex (linearly implicit)
+  double tolerance = 0;        // largest node error per step, in a; 0 = a fixed step
+};
+
 struct SuspensionOptions {
   double min_gap = 0.1;        // smallest surface gap between capsules at t = 0, in a
   double stop_distance = 0.02; // stop when nodes of two capsules come this close, in a
@@ -40,6 +45,7 @@ struct RunOptions {
   int mesh_level = 3;              // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
   double dt = 0.0;                 // time step in strain units; 0 = automatic ("auto")
   double dt_safety = 0.5;          // C in the automatic step dt = C Ca h
+  TimeOptions time;                // scheme and adaptive step
   double t_end = 20.0;             // end of the run, gammadot t
   double t_avg_start = 10.0;       // start of the averaging window, gammadot t
   int seed = 1;                    // random seed (initial positions of suspensions)

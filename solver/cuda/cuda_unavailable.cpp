@@ -36,6 +36,8 @@ DeviceFlow::~DeviceFlow() = default;
 
 void DeviceFlow::traction(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
 void DeviceFlow::velocity(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
-void DeviceFlow::heun_step(std::vector<Vec3>&, double, double) const {}
+double DeviceFlow::heun_step(std::vector<Vec3>&, double, double) const {
+  return 0;
+}
 
 } // namespace capsim

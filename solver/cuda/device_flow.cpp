@@ -192,7 +192,7 @@ void DeviceFlow::velocity(const std::vector<Vec3>& x, double t,
   impl_->u0.download(u);
 }
 
-void DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
+double DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   Impl& s = *impl_;
   const int n = s.mesh.num_nodes();
   s.x.upload(x);
@@ -201,6 +201,10 @@ void DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   s.compute_velocity(s.xs.data(), t + dt, s.u1.data());
   cuda::heun_combine(n, 0.5 * dt, s.u0.data(), s.u1.data(), s.x.data());
   s.x.download(x);
+  std::vector<Vec3> u0, u1;
+  s.u0.download(u0);
+  s.u1.download(u1);
+  return heun_error(u0, u1, dt);
 }
 
 } // namespace capsim

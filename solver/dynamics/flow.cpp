@@ -1,5 +1,6 @@
 #include "dynamics/flow.hpp"
 
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
@@ -45,7 +46,14 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
   return m.str();
 }
 
-void Flow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
+double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt) {
+  double err = 0;
+  for (size_t i = 0; i < u0.size(); ++i)
+    err = std::max(err, norm(u1[i] - u0[i]));
+  return 0.5 * dt * err;
+}
+
+double Flow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   std::vector<Vec3> u0, u1, xs(x.size());
   velocity(x, t, u0);
   for (size_t i = 0; i < x.size(); ++i)
@@ -53,6 +61,7 @@ void Flow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   velocity(xs, t + dt, u1);
   for (size_t i = 0; i < x.size(); ++i)
     x[i] += (0.5 * dt) * (u0[i] + u1[i]);
+  return heun_error(u0, u1, dt);
 }
 
 std::vector<double> Flow::energy_gradient(const std::vector<Vec3>& x,

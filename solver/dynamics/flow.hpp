@@ -53,6 +53,9 @@ struct FlowCapabilities {
 std::string unsupported_by(const FlowSetup& setup, const FlowCapabilities& caps,
                            Backend backend);
 
+// dt/2 max_i |u1_i - u0_i|: Heun's embedded error estimate from its two stages.
+double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt);
+
 class Flow {
 public:
   explicit Flow(const FlowSetup& setup) : setup_(setup) {}
@@ -72,8 +75,9 @@ public:
                         std::vector<Vec3>& u) const = 0;
 
   // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta):
-  // x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t + dt)).
-  virtual void heun_step(std::vector<Vec3>& x, double t, double dt) const;
+  // x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t + dt)). Returns the embedded
+  // error estimate, the largest node distance to the Euler step x*: dt/2 |u1 - u0|.
+  virtual double heun_step(std::vector<Vec3>& x, double t, double dt) const;
 
   // On the CPU for every backend (the diagnostics need them between steps):
   // dW/dx of all capsules (capsule after capsule), returning the energy of each;

@@ -39,6 +39,8 @@ void write_contents(const std::string& file_path, const Checkpoint& c) {
   h5::write_scalar<std::int64_t>(f, "/snapshots_written", c.snapshots_written);
   h5::write_scalar<std::int32_t>(f, "/num_capsules", c.num_capsules);
   h5::write_scalar<std::int32_t>(f, "/nodes_per_capsule", c.nodes_per_capsule);
+  h5::write_scalar<double>(f, "/next_dt", c.next_dt);
+  h5::write_scalar<std::int64_t>(f, "/rejected_steps", c.rejected_steps);
   h5::write_dataset(f, "/volume0", {c.volume0.size()}, c.volume0.data());
   std::vector<double> xyz;
   xyz.reserve(3 * c.positions.size());
@@ -83,6 +85,11 @@ Checkpoint read_checkpoint(const std::string& path) {
     c.snapshots_written = h5::read_scalar<std::int64_t>(f, "/snapshots_written");
     c.num_capsules = h5::read_scalar<std::int32_t>(f, "/num_capsules");
     c.nodes_per_capsule = h5::read_scalar<std::int32_t>(f, "/nodes_per_capsule");
+    // Absent in checkpoints of fixed-step versions, which never needed them.
+    if (H5Lexists(f, "/next_dt", H5P_DEFAULT) > 0) {
+      c.next_dt = h5::read_scalar<double>(f, "/next_dt");
+      c.rejected_steps = h5::read_scalar<std::int64_t>(f, "/rejected_steps");
+    }
     if (c.num_capsules < 1 || c.nodes_per_capsule < 0)
       throw std::runtime_error("num_capsules " + std::to_string(c.num_capsules) +
                                " or nodes_per_capsule " +

@@ -1,5 +1,6 @@
 #include "membrane/membrane_forces.hpp"
 
+#include "membrane/neo_hookean_hessian.hpp"
 #include "mesh/surface_geometry.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
@@ -34,6 +35,40 @@ Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, doubl
       hinge_refs_.push_back(make_hinge_reference(reference[h.a], reference[h.b],
                                                  reference[h.c], reference[h.d]));
   }
+}
+
+Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
+                                                    const std::vector<Vec3>& grad) const {
+  const int n = topo_.num_nodes;
+  const std::vector<double> area = node_areas(topo_, x);
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(2 * 81 * refs_.size());
+  for (size_t e = 0; e < refs_.size(); ++e) {
+    const auto& t = topo_.triangles[e];
+    const Matrix9 h =
+        neo_hookean_element_hessian(refs_[e], gs_, x[t[0]], x[t[1]], x[t[2]]);
+    // d(area_e)/dx_k = n_hat x (x_{k+2} - x_{k+1}) / 2; node i holds a third of it.
+    const Vec3 an = area_vector2(x[t[0]], x[t[1]], x[t[2]]);
+    const Vec3 n_hat = (1.0 / norm(an)) * an;
+    Vec3 darea[3];
+    for (int k = 0; k < 3; ++k)
+      darea[k] = (1.0 / 6.0) * cross(n_hat, x[t[(k + 2) % 3]] - x[t[(k + 1) % 3]]);
+    for (int i = 0; i < 3; ++i) {
+      const int ni = t[i];
+      const Vec3 qi = (1.0 / (area[ni] * area[ni])) * grad[ni];
+      const double qa[3] = {qi.x, qi.y, qi.z};
+      for (int j = 0; j < 3; ++j) {
+        const double da[3] = {darea[j].x, darea[j].y, darea[j].z};
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            trip.emplace_back(3 * ni + a, 3 * t[j] + b,
+                              h(3 * i + a, 3 * j + b) / area[ni] - qa[a] * da[b]);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> jac(3 * n, 3 * n);
+  jac.setFromTriplets(trip.begin(), trip.end()); // sums the duplicates
+  return jac;
 }
 
 std::vector<ElementTensions> Membrane::element_tensions(const Vec3* x) const {

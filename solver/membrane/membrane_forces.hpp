@@ -6,6 +6,7 @@
 #include "membrane/neo_hookean.hpp"
 #include "mesh/icosphere.hpp"
 
+#include <Eigen/Sparse>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,13 @@ public:
   // Traction jump q at the nodes from the energy gradient.
   void nodal_load(const Vec3* x, const std::vector<Vec3>& grad, LoadMapping mapping,
                   std::vector<Vec3>& q) const;
+
+  // dq/dx of the lumped load q_i = (dW/dx_i) / A_i of the neo-Hookean energy at x, with
+  // grad = dW/dx there: (1/A_i) d2W/dx_i dx_j - q_i (dA_i/dx_j)^T, a 3N x 3N matrix
+  // (row 3 i + a, column 3 j + b) with the sparsity of the mesh's node neighbours. The
+  // bending energy is left out: it linearises the elastic load only.
+  Eigen::SparseMatrix<double> load_jacobian(const Vec3* x,
+                                            const std::vector<Vec3>& grad) const;
 
   // Principal tensions and area dilatation of every element at positions x.
   std::vector<ElementTensions> element_tensions(const Vec3* x) const;

@@ -5,6 +5,8 @@
 #include "diagnostics/capsule_diagnostics.hpp"
 #include "dynamics/lees_edwards.hpp"
 #include "dynamics/packing.hpp"
+#include "dynamics/step_controller.hpp"
+#include "dynamics/time_schemes.hpp"
 #include "dynamics/time_stepping.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/json_writer.hpp"
@@ -88,12 +90,16 @@ public:
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
         flow_(make_flow(parse_backend(o.backend),
-                        flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))) {
+                        flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))),
+        stepper_(make_stepper(parse_time_scheme(o.time.scheme), *flow_)) {
     dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending);
+    control_.tolerance = o.time.tolerance;
+    // A fixed step counts steps between outputs; an adaptive one counts samples.
+    const double unit = adaptive() ? o.output.sample_interval : dt_;
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
-    sample_every_ = steps_for(o.output.sample_interval, dt_);
-    checkpoint_every_ = steps_for(o.output.checkpoint_interval, dt_);
-    snapshot_every_ = steps_for(o.output.snapshot_interval, dt_);
+    sample_every_ = steps_for(o.output.sample_interval, unit);
+    checkpoint_every_ = steps_for(o.output.checkpoint_interval, unit);
+    snapshot_every_ = steps_for(o.output.snapshot_interval, unit);
     v0_.assign(o.capsules, enclosed_volume(mesh_.topology, mesh_.positions.data()));
     drift_.assign(o.capsules, 0.0);
   }
@@ -115,6 +121,13 @@ private:
   void report_progress(Clock::time_point begin, long first_step, bool force);
   void keep_in_box();
   void step_until_end(Clock::time_point begin, long first);
+  void step_adaptively(Clock::time_point begin, long first);
+  bool try_step(double target);
+  void finish_step();
+  void write_outputs(long index, bool sample, bool last);
+  bool adaptive() const { return o_.time.tolerance > 0; }
+  // gammadot t: step * dt exactly for a fixed step, so a resumed run stays on its grid.
+  double time() const { return adaptive() ? t_ : step_ * dt_; }
   const PeriodicBox& box() const { return flow_->setup().box; }
 
   RunOptions o_;
@@ -124,7 +137,12 @@ private:
   Membrane membrane_;
   double h_; // mean edge of the undeformed mesh: sets dt
   std::unique_ptr<Flow> flow_;
-  double dt_;
+  std::unique_ptr<Stepper> stepper_;
+  StepController control_;
+  double dt_; // the fixed step, or the adaptive step to try next
+  double t_ = 0;
+  long rejected_ = 0;
+  double first_time_ = 0; // time() when this session's stepping began, for the ETA
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
   long step_ = 0, rows_written_ = 0;
   std::vector<Vec3> x_;
@@ -169,6 +187,10 @@ void RunLoop::start_from(const Checkpoint& c) {
   x_ = c.positions;
   v0_ = c.volume0;
   step_ = c.step;
+  t_ = c.time;
+  rejected_ = c.rejected_steps;
+  if (adaptive() && c.next_dt > 0)
+    dt_ = c.next_dt;
   rows_written_ = c.samples_written;
   // Rows written after the checkpoint (a run killed between the two) are dropped.
   TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
@@ -183,6 +205,7 @@ void RunLoop::start_from(const Checkpoint& c) {
 void RunLoop::run() {
   const auto begin = Clock::now();
   const long first = step_;
+  first_time_ = time();
   try {
     step_until_end(begin, first);
   } catch (const SimulationError&) {
@@ -192,38 +215,92 @@ void RunLoop::run() {
 }
 
 void RunLoop::step_until_end(Clock::time_point begin, long first) {
+  if (adaptive())
+    return step_adaptively(begin, first);
   while (step_ < n_steps_) {
-    flow_->heun_step(x_, step_ * dt_, dt_);
+    stepper_->step(x_, time(), dt_);
     ++step_;
-    std::vector<double> d = enforce_volume(mesh_.topology, o_.capsules, x_, v0_);
-    for (int c = 0; c < o_.capsules; ++c)
-      if (std::abs(d[c]) > std::abs(drift_[c]))
-        drift_[c] = d[c];
-    check_state(mesh_.topology, o_.capsules, x_, step_ * dt_);
-    if (flow_->periodic())
-      keep_in_box();
-    if (step_ % sample_every_ == 0 || step_ == n_steps_)
-      take_sample();
-    if (snapshot_every_ > 0 && step_ % snapshot_every_ == 0)
-      save_snapshot();
-    if (step_ % checkpoint_every_ == 0 || step_ == n_steps_)
-      save_checkpoint();
-    report_progress(begin, first, step_ == n_steps_);
+    finish_step();
+    const bool last = step_ == n_steps_;
+    write_outputs(step_, step_ % sample_every_ == 0 || last, last);
+    report_progress(begin, first, last);
   }
+}
+
+// Steps end on every sample time k * output.sample_interval and on t_end, so the time
+// series keeps its spacing; outputs are counted in samples.
+void RunLoop::step_adaptively(Clock::time_point begin, long first) {
+  const double interval = o_.output.sample_interval;
+  while (t_ < o_.t_end) {
+    const long next_sample = rows_written_ + long(pending_.size());
+    const double target = std::min(o_.t_end, next_sample * interval);
+    if (!try_step(target))
+      continue;
+    finish_step();
+    const bool last = t_ >= o_.t_end;
+    write_outputs(next_sample, t_ == target, last);
+    report_progress(begin, first, last);
+  }
+}
+
+// One adaptive step towards `target`; false when its error estimate rejected it (x_ and
+// t_ stay, the step shrinks). A step shortened to land on the target does not shrink
+// the step after it unless its own error asks for that.
+bool RunLoop::try_step(double target) {
+  const double h = std::min(dt_, target - t_);
+  std::vector<Vec3> x = x_;
+  const double error = stepper_->step(x, t_, h);
+  const double proposal = control_.next(h, error);
+  if (!control_.accept(error)) {
+    ++rejected_;
+    dt_ = proposal;
+    if (dt_ < 1e-6 * automatic_time_step(o_.ca, h_, o_.dt_safety, o_.bending))
+      throw SimulationError("at gammadot*t = " + std::to_string(t_) +
+                            " the adaptive step fell to " + std::to_string(dt_) +
+                            " without meeting time.tolerance: the state is broken (the "
+                            "output folder keeps the last good checkpoint)");
+    return false;
+  }
+  if (!(h < dt_ && proposal >= h))
+    dt_ = proposal;
+  x_ = std::move(x);
+  t_ = h == target - t_ ? target : t_ + h;
+  ++step_;
+  return true;
+}
+
+// The volume constraint, the checks, and the Lees-Edwards remapping after a step.
+void RunLoop::finish_step() {
+  std::vector<double> d = enforce_volume(mesh_.topology, o_.capsules, x_, v0_);
+  for (int c = 0; c < o_.capsules; ++c)
+    if (std::abs(d[c]) > std::abs(drift_[c]))
+      drift_[c] = d[c];
+  check_state(mesh_.topology, o_.capsules, x_, time());
+  if (flow_->periodic())
+    keep_in_box();
+}
+
+// After step (fixed) or sample (adaptive) number `index`.
+void RunLoop::write_outputs(long index, bool sample, bool last) {
+  if (sample)
+    take_sample();
+  if (sample && snapshot_every_ > 0 && index % snapshot_every_ == 0)
+    save_snapshot();
+  if ((sample && index % checkpoint_every_ == 0) || last)
+    save_checkpoint();
 }
 
 // Lees-Edwards remapping, then the contact check: capsules may not interpenetrate.
 void RunLoop::keep_in_box() {
-  const ShearedLattice lattice = flow_->lattice(step_ * dt_);
+  const ShearedLattice lattice = flow_->lattice(time());
   remap_capsules(mesh_.topology, o_.capsules, lattice, x_);
   ClosestApproach c = closest_approach(mesh_.topology, o_.capsules, lattice, x_,
                                        o_.suspension.stop_distance);
   if (c.distance < o_.suspension.stop_distance)
     throw SimulationError(
         "capsules " + std::to_string(c.capsule_a) + " and " +
-            std::to_string(c.capsule_b) +
-            " touch at gammadot*t = " + std::to_string(step_ * dt_) + " (node distance " +
-            std::to_string(c.distance) +
+            std::to_string(c.capsule_b) + " touch at gammadot*t = " +
+            std::to_string(time()) + " (node distance " + std::to_string(c.distance) +
             " < suspension.stop_distance): the near-contact "
             "flow is under-resolved; start again with a smaller dt or a "
             "finer mesh (the output "
@@ -236,7 +313,7 @@ void RunLoop::take_sample() {
   std::vector<double> energy = flow_->energy_gradient(x_, grad);
   const int nn = mesh_.topology.num_nodes;
   Sample s;
-  s.time = step_ * dt_;
+  s.time = time();
   s.step = step_;
   // The stresslet sees the whole load on the membrane, the repulsion's included.
   const std::vector<int> repelled = flow_->add_repulsion(x_, s.time, grad);
@@ -266,7 +343,9 @@ void RunLoop::flush_samples() {
 void RunLoop::save_checkpoint() {
   flush_samples();
   Checkpoint c;
-  c.time = step_ * dt_;
+  c.time = time();
+  c.next_dt = dt_;
+  c.rejected_steps = rejected_;
   c.step = step_;
   c.samples_written = rows_written_;
   c.snapshots_written = long(snapshots_.size());
@@ -280,7 +359,7 @@ void RunLoop::save_checkpoint() {
 
 void RunLoop::save_snapshot() {
   SnapshotFrame frame;
-  frame.time = step_ * dt_;
+  frame.time = time();
   if (flow_->periodic()) {
     frame.box_side = box().L;
     frame.strain = flow_->lattice(frame.time).s;
@@ -324,13 +403,17 @@ void RunLoop::report_progress(Clock::time_point begin, long first_step, bool for
   if (quiet_ || (!force && now - last_report_ < std::chrono::seconds(2)))
     return;
   last_report_ = now;
-  double elapsed = std::chrono::duration<double>(now - begin).count();
-  double rate = (step_ - first_step) / std::max(elapsed, 1e-9);
-  double eta = (n_steps_ - step_) / std::max(rate, 1e-9);
-  std::fprintf(
-      stderr,
-      "capsim: t = %.3f / %.3f (%5.1f%%)  step %ld/%ld  %.1f steps/s  ETA %.0f s\n",
-      step_ * dt_, n_steps_ * dt_, 100.0 * step_ / n_steps_, step_, n_steps_, rate, eta);
+  const double elapsed = std::chrono::duration<double>(now - begin).count();
+  const double rate = (step_ - first_step) / std::max(elapsed, 1e-9);
+  const double done = time() - first_time_, left = o_.t_end - time();
+  const double eta = done > 0 ? elapsed * left / done : 0;
+  std::fprintf(stderr,
+               "capsim: t = %.3f / %.3f (%5.1f%%)  step %ld  dt %.3g%s  %.1f steps/s  "
+               "ETA %.0f s\n",
+               time(), o_.t_end, 100.0 * time() / o_.t_end, step_, dt_,
+               adaptive() ? (" (" + std::to_string(rejected_) + " rejected)").c_str()
+                          : "",
+               rate, eta);
 }
 
 void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string& ended,
@@ -339,7 +422,8 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   SummaryFacts facts;
   facts.ended = ended;
   facts.end_message = end_message;
-  facts.dt = dt_;
+  facts.dt = adaptive() && step_ > 0 ? time() / step_ : dt_; // the mean, if adaptive
+  facts.rejected_steps = rejected_;
   facts.mean_edge = h_;
   facts.steps = step_;
   facts.wall_seconds = wall_seconds;

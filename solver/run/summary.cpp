@@ -43,6 +43,7 @@ void write_summary_json(const std::string& path, const RunOptions& o,
   j.field("sample_values", a.values);
   j.field("steps", facts.steps);
   j.field("dt", facts.dt);
+  j.field("rejected_steps", facts.rejected_steps);
   j.field("mean_edge_length", facts.mean_edge);
   j.field("wall_seconds", facts.wall_seconds);
   j.field("threads", facts.threads);

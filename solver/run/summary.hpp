@@ -11,6 +11,7 @@ namespace capsim {
 struct SummaryFacts {
   double dt = 0, mean_edge = 0, wall_seconds = 0;
   long steps = 0;
+  long rejected_steps = 0; // adaptive step: tried and rejected
   int threads = 1;
   bool resumed = false;
   double box_side = 0; // periodic box side L; 0 in the dilute limit

@@ -130,6 +130,16 @@ TEST_CASE("resume: a killed and resumed suspension run equals an uninterrupted o
                         12);
 }
 
+TEST_CASE("resume: a killed and resumed adaptive IMEX run equals an uninterrupted one",
+          "[resume]") {
+  // The step size to try next and the rejection count travel in the checkpoint.
+  check_kill_and_resume(
+      "adaptive",
+      with(kCase, {"--set", "time.scheme=imex", "--set", "time.tolerance=1e-3", "--set",
+                   "output.sample_interval=0.1"}),
+      10);
+}
+
 TEST_CASE("resume: bad input is refused and loses nothing", "[resume]") {
   fs::path dir = fresh_dir("bad");
   REQUIRE(run({"run", "-q", "--set", "mesh_level=2", "--set", "t_end=0.2", "--set",

@@ -1,0 +1,65 @@
+#include "dynamics/stiff_membrane.hpp"
+
+#include "stokes/self_mobility.hpp"
+
+#include <stdexcept>
+
+namespace capsim {
+
+StiffMembrane::StiffMembrane(const Membrane& membrane, int num_capsules,
+                             QuadratureOptions quadrature)
+    : membrane_(membrane), num_capsules_(num_capsules), quadrature_(quadrature),
+      systems_(num_capsules) {}
+
+Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc) const {
+  const Topology& topo = membrane_.topology();
+  std::vector<Vec3> grad;
+  membrane_.energy_gradient(xc, grad);
+  const Matrix dq = membrane_.load_jacobian(xc, grad);
+  const std::vector<Mat3> b = self_mobility_blocks(topo, xc, quadrature_);
+  // Row block i of B dq/dx is B_i times row block i of dq/dx.
+  Matrix blocks(dq.rows(), dq.cols());
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(9 * topo.num_nodes);
+  for (int i = 0; i < topo.num_nodes; ++i)
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c)
+        trip.emplace_back(3 * i + a, 3 * i + c, b[i].m[a][c]);
+  blocks.setFromTriplets(trip.begin(), trip.end());
+  return blocks * dq;
+}
+
+void StiffMembrane::prepare(const std::vector<Vec3>& x, double gamma_dt) {
+  const int nn = membrane_.topology().num_nodes;
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < num_capsules_; ++c) {
+    auto system = std::make_unique<System>();
+    system->w = -gamma_dt * jacobian(&x[c * nn]);
+    for (int k = 0; k < 3 * nn; ++k)
+      system->w.coeffRef(k, k) += 1.0;
+    system->w.makeCompressed();
+    system->iterative.setTolerance(1e-12);
+    system->iterative.compute(system->w);
+    systems_[c] = std::move(system);
+  }
+}
+
+void StiffMembrane::solve(std::vector<Vec3>& v) {
+  const int nn = membrane_.topology().num_nodes;
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < num_capsules_; ++c) {
+    Eigen::Map<Eigen::VectorXd> vc(&v[c * nn].x, 3 * nn);
+    System& s = *systems_[c];
+    Eigen::VectorXd sol = s.iterative.solveWithGuess(vc, vc); // W is I + O(dt)
+    if (s.iterative.info() != Eigen::Success) {
+      Eigen::SparseLU<Matrix> lu(s.w);
+      if (lu.info() != Eigen::Success)
+        throw std::runtime_error("the implicit step's matrix of capsule " +
+                                 std::to_string(c) + " is singular");
+      sol = lu.solve(vc);
+    }
+    vc = sol;
+  }
+}
+
+} // namespace capsim

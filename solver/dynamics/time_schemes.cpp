@@ -1,0 +1,52 @@
+#include "dynamics/time_schemes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace capsim {
+
+TimeScheme parse_time_scheme(const std::string& name) {
+  if (name == "heun")
+    return TimeScheme::heun;
+  if (name == "imex")
+    return TimeScheme::imex;
+  throw std::invalid_argument("time.scheme must be one of {heun, imex}, got '" + name +
+                              "'");
+}
+
+std::string to_string(TimeScheme s) {
+  return s == TimeScheme::heun ? "heun" : "imex";
+}
+
+ImexStepper::ImexStepper(const Flow& flow)
+    : flow_(flow), stiff_(flow.membrane(), flow.num_capsules(), flow.setup().quadrature) {
+}
+
+double ImexStepper::step(std::vector<Vec3>& x, double t, double dt) {
+  const double gamma = 1.0 + 1.0 / std::sqrt(2.0);
+  stiff_.prepare(x, gamma * dt);
+  std::vector<Vec3> k1, k2, xs(x.size());
+  flow_.velocity(x, t, k1);
+  stiff_.solve(k1);
+  for (size_t i = 0; i < x.size(); ++i)
+    xs[i] = x[i] + dt * k1[i];
+  flow_.velocity(xs, t + dt, k2);
+  for (size_t i = 0; i < x.size(); ++i)
+    k2[i] -= 2.0 * k1[i];
+  stiff_.solve(k2);
+  double err = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    x[i] += dt * (1.5 * k1[i] + 0.5 * k2[i]);
+    err = std::max(err, norm(k1[i] + k2[i]));
+  }
+  return 0.5 * dt * err;
+}
+
+std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow) {
+  if (scheme == TimeScheme::imex)
+    return std::make_unique<ImexStepper>(flow);
+  return std::make_unique<HeunStepper>(flow);
+}
+
+} // namespace capsim

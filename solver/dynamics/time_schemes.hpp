@@ -1,0 +1,59 @@
+#pragma once
+// The time schemes of the node positions, each with an embedded error estimate for the
+// adaptive step (dynamics/step_controller.hpp):
+//   heun: explicit 2nd-order Runge-Kutta (paper eq. 3.2), stable for dt ~ Ca h only;
+//   imex: the linearly implicit 2nd-order Rosenbrock-W scheme ROS2 (Verwer, Spee, Blom &
+//         Hundsdorfer 1999), gamma = 1 + 1/sqrt 2, with W = I - gamma dt J and J the
+//         stiff membrane part of the Jacobian (dynamics/stiff_membrane.hpp):
+//           W k1 = u(x, t),  W k2 = u(x + dt k1, t + dt) - 2 k1,
+//           x <- x + dt (3/2 k1 + 1/2 k2).
+//         As a W-method it keeps order 2 for any J; an approximate J costs accuracy
+//         constants, not order. Everything not in J (the capsule's far field, the other
+//         capsules, the shear) is treated explicitly through u.
+#include "dynamics/flow.hpp"
+#include "dynamics/stiff_membrane.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace capsim {
+
+enum class TimeScheme { heun, imex };
+
+TimeScheme parse_time_scheme(const std::string& name); // throws std::invalid_argument
+std::string to_string(TimeScheme s);
+
+class Stepper {
+public:
+  virtual ~Stepper() = default;
+  // Advances x from t by dt; returns the embedded estimate of the local error, the
+  // largest node distance between the scheme's step and its first-order companion's.
+  virtual double step(std::vector<Vec3>& x, double t, double dt) = 0;
+};
+
+class HeunStepper : public Stepper {
+public:
+  explicit HeunStepper(const Flow& flow) : flow_(flow) {}
+  double step(std::vector<Vec3>& x, double t, double dt) override {
+    return flow_.heun_step(x, t, dt);
+  }
+
+private:
+  const Flow& flow_;
+};
+
+class ImexStepper : public Stepper {
+public:
+  explicit ImexStepper(const Flow& flow);
+  // The first-order companion is x + dt k1, so the estimate is dt/2 |k1 + k2|.
+  double step(std::vector<Vec3>& x, double t, double dt) override;
+
+private:
+  const Flow& flow_;
+  StiffMembrane stiff_;
+};
+
+std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow);
+
+} // namespace capsim
