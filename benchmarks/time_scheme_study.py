@@ -1,0 +1,128 @@
+"""Speed against error of the time schemes, each case run with a baseline (explicit Heun)
+and a candidate (IMEX with an adaptive step) one after the other on this machine: wall
+seconds per capsule per unit strain, the averages of D, mu_sp and N1 over the window
+with block standard errors, and the candidate's relative difference from the baseline.
+
+Usage: .venv/bin/python benchmarks/time_scheme_study.py [--cases dilute,table1,...]
+           [--capsim PATH] [--threads 2]
+Cases (names, or a comma-separated list of them):
+  dilute     one capsule, Ca 0.2, 0.4, 0.6 at mesh levels 2, 3, 4, t = 20, window
+             [10, 20]: Heun at the default step against IMEX at time.tolerance 1e-3
+  dilute05   one capsule, Ca 0.05, level 4: the same pair, and Heun at dt_safety 1
+  table1     the reduced Table 1 case (Ca 0.2, phi 0.3, level 3, M = 27, t = 20):
+             Heun at dt_safety 1 with ewald.tolerance 1e-4 (the best explicit run)
+             against IMEX at time.tolerance 1e-3, same Ewald tolerance
+Every run samples every 0.25 strain units. Runs are kept in results/benchmarks/schemes/
+and reused when finished, so the study can be run in pieces. Writes
+results/benchmarks/time_schemes.json and .md.
+"""
+
+import argparse
+import json
+import math
+import pathlib
+import subprocess
+
+import numpy as np
+import pandas as pd
+
+from analysis.read_run import read_timeseries
+from analysis.rheology import particle_stress
+from analysis.tables import markdown_table
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+OUT = ROOT / "results" / "benchmarks"
+HEUN = {"time.scheme": "heun"}
+HEUN_1 = {"time.scheme": "heun", "dt_safety": 1.0}
+IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
+
+
+def cases(name):
+    """(case label, common settings, [(variant label, settings)])."""
+    window = {"t_end": 20, "t_avg_start": 10}
+    if name == "dilute":
+        for level in (2, 3, 4):
+            for ca in (0.2, 0.4, 0.6):
+                yield (f"dilute_L{level}_Ca{ca}", {**window, "mesh_level": level, "ca": ca},
+                       [("heun", HEUN), ("imex", IMEX)])
+    elif name == "dilute05":
+        yield ("dilute_L4_Ca0.05", {**window, "mesh_level": 4, "ca": 0.05},
+               [("heun", HEUN), ("heun_1", HEUN_1), ("imex", IMEX)])
+    elif name == "table1":
+        common = {**window, "mesh_level": 3, "ca": 0.2, "phi": 0.3, "capsules": 27,
+                  "seed": 1, "ewald.tolerance": 1e-4}
+        yield ("table1", common, [("heun_1", HEUN_1), ("imex", IMEX)])
+    else:
+        raise SystemExit(f"unknown case '{name}'")
+
+
+def run(folder, settings, a):
+    """Runs capsim once into `folder` unless a finished run is there."""
+    if (folder / "summary.json").exists():
+        return
+    cmd = [str(a.capsim), "run", "-q", "-o", str(folder)]
+    if (folder / "checkpoint.h5").exists():
+        cmd = [str(a.capsim), "run", "-q", "--resume", str(folder)]
+        settings = {}
+    for key, value in settings.items():
+        cmd += ["--set", f"{key}={value}"]
+    print(" ".join(cmd[1:]), flush=True)
+    subprocess.run(cmd, check=False)  # an early stop still leaves a summary
+
+
+def block_mean(values, blocks=5):
+    """Mean and the standard error of `blocks` block means."""
+    parts = np.array_split(values, blocks)
+    means = np.array([p.mean() for p in parts])
+    return float(values.mean()), float(means.std(ddof=1) / math.sqrt(blocks))
+
+
+def measure(folder, common):
+    s = json.loads((folder / "summary.json").read_text())
+    ts = read_timeseries(folder)
+    inside = (ts["time"] >= common["t_avg_start"]) & (ts["time"] <= common["t_end"])
+    phi, ca = common.get("phi", 0.0), common["ca"]
+    stress = particle_stress(ts["stresslet"][inside].mean(axis=1), phi, ca)
+    row = {"ended": s["ended"], "steps": s["steps"], "rejected": s.get("rejected_steps"),
+           "mean_dt": s["dt"], "wall_s": s["wall_seconds"],
+           "s_per_capsule_strain": s["wall_seconds"]
+           / (s["parameters"]["capsules"] * common["t_end"])}
+    for name, series in (("D", ts["D"][inside].mean(axis=1)), ("mu_sp", stress[:, 0, 1]),
+                         ("N1", stress[:, 0, 0] - stress[:, 1, 1])):
+        row[name], row[name + "_se"] = block_mean(series)
+    return row
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--cases", default="dilute,dilute05,table1")
+    p.add_argument("--capsim", type=pathlib.Path, default=ROOT / "build" / "capsim")
+    p.add_argument("--threads", type=int, default=2)
+    a = p.parse_args()
+    folder = OUT / "schemes"
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for name in a.cases.split(","):
+        for label, common, variants in cases(name):
+            baseline = None
+            for variant, settings in variants:
+                run_dir = folder / f"{label}_{variant}"
+                run(run_dir, {**common, **settings, "threads": a.threads,
+                              "output.sample_interval": 0.25,
+                              "output.snapshot_interval": 0}, a)
+                row = {"case": label, "variant": variant, **measure(run_dir, common)}
+                if baseline is None:
+                    baseline = row
+                else:
+                    row["speedup"] = baseline["wall_s"] / row["wall_s"]
+                    for key in ("D", "mu_sp", "N1"):
+                        row[f"{key}_rel_diff"] = row[key] / baseline[key] - 1
+                rows.append(row)
+                print(json.dumps(row), flush=True)
+    (OUT / "time_schemes.json").write_text(json.dumps(rows, indent=1))
+    (OUT / "time_schemes.md").write_text(markdown_table(pd.DataFrame(rows), na_rep=""))
+    print(f"wrote {OUT / 'time_schemes.json'}")
+
+
+if __name__ == "__main__":
+    main()
