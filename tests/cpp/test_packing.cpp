@@ -1,5 +1,5 @@
+#include "common/suspension.hpp"
 #include "dynamics/packing.hpp"
-#include "stokes/stokeslet.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -7,9 +7,19 @@ using namespace capsim;
 
 namespace {
 double box_for(int m, double phi) {
-  return std::cbrt(m * 4.0 * kPi / (3.0 * phi));
+  return periodic_box_side(m, phi);
 }
 } // namespace
+
+TEST_CASE("packing: the box side and the particle-stress factor of the conventions",
+          "[packing]") {
+  // One sphere of volume 4 pi / 3 at phi = pi / 6 fills a cube of side 2.
+  CHECK(periodic_box_side(1, kPi / 6) == Approx(2.0).epsilon(1e-15));
+  CHECK(periodic_box_side(8, kPi / 6) == Approx(4.0).epsilon(1e-15));
+  // 3 phi / (4 pi Ca) = 1 at phi = 4 pi / 30, Ca = 0.1; phi = 0 leaves phi out.
+  CHECK(particle_stress_factor(4 * kPi / 30, 0.1) == Approx(1.0).epsilon(1e-15));
+  CHECK(particle_stress_factor(0, 0.2) == Approx(3 / (0.8 * kPi)).epsilon(1e-15));
+}
 
 TEST_CASE("packing: 100 capsules at phi = 0.45 without overlap, reproducibly",
           "[packing]") {

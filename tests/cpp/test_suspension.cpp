@@ -1,5 +1,6 @@
 // Suspensions end to end: the periodic box reproduces the dilute limit as phi -> 0, and
 // capsules stay whole inside the primary cell of the sheared lattice.
+#include "common/suspension.hpp"
 #include "diagnostics/averages.hpp"
 #include "dynamics/lees_edwards.hpp"
 #include "io/checkpoint_file.hpp"
@@ -64,7 +65,7 @@ TEST_CASE("suspension: capsules stay whole in the primary cell, apart", "[suspen
                         "t_avg_start=0.5", "seed=3", "output.snapshot_interval=0"});
   Checkpoint c = read_checkpoint((dir / "checkpoint.h5").string());
   Icosphere mesh = make_icosphere(1);
-  const double L = std::cbrt(3 * 4.0 * 3.14159265358979 / (3 * 0.1));
+  const double L = periodic_box_side(3, 0.1);
   ShearedLattice g = make_sheared_lattice(L, c.time);
   for (int k = 0; k < 3; ++k) {
     Vec3 centre =
