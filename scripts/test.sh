@@ -14,12 +14,13 @@ cd "$ROOT"
 
 JOBS="${CAPSIM_JOBS:-2}"
 
-# The CUDA backend built with CAPSIM_CUDA=EMULATE (kernels run as loops on the CPU,
-# docs/gpu.md): only the capsim executable, then its comparison with the CPU backend.
-emulated_device_selftest() {
-  local dir=build-emulate
-  local args=(-S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCAPSIM_CUDA=EMULATE
-    -DCAPSIM_TESTS=OFF -DCAPSIM_BENCHMARKS=OFF "-DCAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}")
+# Configures a second build folder DIR (Release, no benchmarks, Ninja when present) with
+# the extra CMake arguments given; the report goes to DIR/configure.log.
+configure_variant() {
+  local dir=$1
+  shift
+  local args=(-S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCAPSIM_BENCHMARKS=OFF
+    "-DCAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}" "$@")
   if [ ! -f "$dir/CMakeCache.txt" ] && command -v ninja >/dev/null 2>&1; then
     args+=(-G Ninja)
   fi
@@ -28,6 +29,13 @@ emulated_device_selftest() {
     cat "$dir/configure.log" >&2
     return 1
   }
+}
+
+# The CUDA backend built with CAPSIM_CUDA=EMULATE (kernels run as loops on the CPU,
+# docs/gpu.md): only the capsim executable, then its comparison with the CPU backend.
+emulated_device_selftest() {
+  local dir=build-emulate
+  configure_variant "$dir" -DCAPSIM_CUDA=EMULATE -DCAPSIM_TESTS=OFF || return 1
   cmake --build "$dir" --target capsim --parallel "$JOBS" || return 1
   "$dir/capsim" selftest --backend cuda
 }
@@ -38,16 +46,7 @@ emulated_device_selftest() {
 # relaxation paths they take are covered by faster tests here.
 sanitized_suite() {
   local dir=build-sanitize
-  local args=(-S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCAPSIM_SANITIZE=ON
-    -DCAPSIM_CUDA=OFF -DCAPSIM_BENCHMARKS=OFF "-DCAPSIM_NATIVE=${CAPSIM_NATIVE:-OFF}")
-  if [ ! -f "$dir/CMakeCache.txt" ] && command -v ninja >/dev/null 2>&1; then
-    args+=(-G Ninja)
-  fi
-  mkdir -p "$dir"
-  cmake "${args[@]}" >"$dir/configure.log" 2>&1 || {
-    cat "$dir/configure.log" >&2
-    return 1
-  }
+  configure_variant "$dir" -DCAPSIM_SANITIZE=ON -DCAPSIM_CUDA=OFF || return 1
   cmake --build "$dir" --parallel "$JOBS" >"$dir/build.log" 2>&1 || {
     tail -50 "$dir/build.log" >&2
     return 1
