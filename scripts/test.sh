@@ -51,39 +51,43 @@ sanitized_suite() {
     tail -50 "$dir/build.log" >&2
     return 1
   }
+  ctest_suite "$dir" -E "relaxes to a sphere, energy decreasing|converges at second order"
+}
+
+# The C++ suite of build folder $1 (extra ctest arguments after it). --no-tests=error: an
+# empty suite (e.g. a broken test discovery) is a failure, not a pass.
+ctest_suite() {
+  local dir=$1
+  shift
   ctest --test-dir "$dir" --output-on-failure -j "$JOBS" --no-tests=error \
-    --timeout "${CAPSIM_TEST_TIMEOUT:-900}" \
-    -E "relaxes to a sphere, energy decreasing|converges at second order"
+    --timeout "${CAPSIM_TEST_TIMEOUT:-900}" "$@"
+}
+
+# Runs one part (the command after its name), timed; a failure is reported and returned,
+# and the caller goes on with the other parts.
+run_part() {
+  local name=$1 rc=0
+  shift
+  echo "test: $name"
+  SECONDS=0
+  "$@" || rc=$?
+  echo "test: $name took ${SECONDS} s"
+  if [ "$rc" -ne 0 ]; then
+    echo "test: $name FAILED (exit $rc); running the other parts anyway"
+  fi
+  return "$rc"
 }
 
 bash scripts/setup.sh
 
-echo "test: CUDA backend emulated on the CPU (build-emulate/, capsim selftest --backend cuda)"
 emulate_rc=0
-SECONDS=0
-emulated_device_selftest || emulate_rc=$?
-echo "test: emulated device check took ${SECONDS} s"
-if [ "$emulate_rc" -ne 0 ]; then
-  echo "test: emulated CUDA self-test FAILED (exit $emulate_rc); running the suites anyway"
-fi
-
-echo "test: C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)"
+run_part "CUDA backend emulated on the CPU (build-emulate/, capsim selftest --backend cuda)" \
+  emulated_device_selftest || emulate_rc=$?
 sanitize_rc=0
-SECONDS=0
-sanitized_suite || sanitize_rc=$?
-echo "test: sanitized suite took ${SECONDS} s"
-if [ "$sanitize_rc" -ne 0 ]; then
-  echo "test: sanitized C++ suite FAILED (exit $sanitize_rc); running the others anyway"
-fi
-
-echo "test: C++ suite (ctest)"
+run_part "C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)" \
+  sanitized_suite || sanitize_rc=$?
 ctest_rc=0
-# --no-tests=error: an empty suite (e.g. a broken test discovery) is a failure, not a pass.
-ctest --test-dir build --output-on-failure -j "$JOBS" --no-tests=error \
-  --timeout "${CAPSIM_TEST_TIMEOUT:-900}" || ctest_rc=$?
-if [ "$ctest_rc" -ne 0 ]; then
-  echo "test: ctest FAILED (exit $ctest_rc); running the Python suite anyway"
-fi
+run_part "C++ suite (ctest)" ctest_suite build || ctest_rc=$?
 
 echo "test: Python suite (pytest)"
 pytest_rc=0
