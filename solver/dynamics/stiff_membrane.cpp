@@ -3,6 +3,7 @@
 #include "stokes/self_mobility.hpp"
 
 #include <Eigen/LU>
+#include <Eigen/SparseLU>
 #include <stdexcept>
 
 namespace capsim {

@@ -11,7 +11,6 @@
 #include "stokes/single_layer.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseLU>
 #include <memory>
 #include <vector>
 

@@ -75,7 +75,7 @@ void compare_case(Report& r, const std::string& name, const Membrane& membrane,
   r.line(name + ": membrane traction", max_relative_difference(b, a), 1e-12);
   cpu->velocity(x0, 0.3, a);
   other->velocity(x0, 0.3, b);
-  // Summation order differs (tiles, atomics in spreading, cuFFT against FFTW).
+  // Summation order differs (simd reductions, atomics in spreading, cuFFT against FFTW).
   r.line(name + ": velocity", max_relative_difference(b, a), 1e-10);
   std::vector<Vec3> xa = x0, xb = x0;
   for (int s = 0; s < steps; ++s) {
