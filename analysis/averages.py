@@ -7,6 +7,7 @@ Defaults follow the paper: averages from gammadot*t_s = 10 to the end of the run
 import numpy as np
 
 from analysis.read_run import time_average
+from analysis.statistics import standard_error
 
 T_START = 10.0  # paper section 4.1: the average starts after gammadot*t = 10
 
@@ -20,9 +21,11 @@ def run_averages(ts, t_start=T_START, t_end=None):
     """Averages of one run's time series `ts` (as read_timeseries returns it).
 
     Means and standard deviations are over all (sample, capsule) pairs with
-    t_start <= t <= t_end (eq. 4.1). Returns a dict: D, D_std, theta_D_deg,
-    theta_D_std_deg, principal_diff (<S1 - S2>), theta_S_deg, stresslet (3x3 mean, Gs a^2),
-    count (sample values), t_start, t_end, capsules.
+    t_start <= t <= t_end (eq. 4.1); the standard errors (_se) are those of the time
+    average of the capsule mean (analysis.statistics). Returns a dict: D, D_std, D_se,
+    theta_D_deg, theta_D_std_deg, theta_D_se_deg, principal_diff (<S1 - S2>),
+    theta_S_deg, stresslet (3x3 mean, Gs a^2), stresslet_se (3x3), normal_differences_se
+    (of S_xx - S_yy and S_yy - S_zz), count (sample values), t_start, t_end, capsules.
     """
     time = ts["time"]
     t_end = window_end(time, t_end)
@@ -35,6 +38,12 @@ def run_averages(ts, t_start=T_START, t_end=None):
     out["theta_S_deg"] = time_average(ts["theta_S_deg"], time, t_start, t_end)[0]
     out["stresslet"] = time_average(ts["stresslet"], time, t_start, t_end)[0]
     out["count"] = count
+    out["D_se"] = standard_error(ts["D"], time, t_start, t_end)
+    out["theta_D_se_deg"] = standard_error(ts["theta_D_deg"], time, t_start, t_end)
+    s = np.asarray(ts["stresslet"], dtype=float)
+    out["stresslet_se"] = standard_error(s, time, t_start, t_end)
+    differences = np.stack([s[..., 0, 0] - s[..., 1, 1], s[..., 1, 1] - s[..., 2, 2]], -1)
+    out["normal_differences_se"] = standard_error(differences, time, t_start, t_end)
     return out
 
 

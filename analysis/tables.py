@@ -15,13 +15,14 @@ import pandas as pd
 
 from analysis.averages import run_averages
 from analysis.read_run import read_summary, read_timeseries
-from analysis.rheology import rheology
+from analysis.rheology import rheology, stress_factor
 from analysis.stresslet import decomposition
 
 PARAMETERS = ("ca", "phi", "capsules", "seed", "mesh_level")
-COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "theta_D_deg",
-                         "theta_D_std_deg", "principal_diff", "theta_S_deg", "S_xx",
-                         "S_xy", "S_yy", "S_zz", "mu_sp", "N1", "N2", "S12",
+COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "D_se",
+                         "theta_D_deg", "theta_D_std_deg", "theta_D_se_deg",
+                         "principal_diff", "theta_S_deg", "S_xx", "S_xy", "S_yy", "S_zz",
+                         "mu_sp", "mu_sp_se", "N1", "N1_se", "N2", "N2_se", "S12",
                          "S12_principal", "S11_S22", "S11_S22_principal", "sin2theta_S",
                          "cos2theta_S", "intrinsic", "ended", "run"))
 
@@ -41,11 +42,15 @@ def run_row(run_dir, t_start=None, t_end=None):
     row = {"ca": ca, "phi": phi, "capsules": int(p["capsules"]), "seed": int(p["seed"]),
            "mesh_level": int(p["mesh_level"]), "t_start": avg["t_start"],
            "t_end": avg["t_end"], "count": avg["count"]}
-    for key in ("D", "D_std", "theta_D_deg", "theta_D_std_deg", "principal_diff",
-                "theta_S_deg"):
+    for key in ("D", "D_std", "D_se", "theta_D_deg", "theta_D_std_deg", "theta_D_se_deg",
+                "principal_diff", "theta_S_deg"):
         row[key] = float(avg[key])
     row.update({"S_xx": s[0, 0], "S_xy": s[0, 1], "S_yy": s[1, 1], "S_zz": s[2, 2]})
     row.update(rheology(s, phi, ca))
+    # The rheology is linear in the stresslet (eqs. 4.5, 4.9, 4.10), so are its errors.
+    factor = stress_factor(phi, ca)
+    row["mu_sp_se"] = factor * float(avg["stresslet_se"][0, 1])
+    row["N1_se"], row["N2_se"] = (factor * float(e) for e in avg["normal_differences_se"])
     row.update(decomposition(s, avg["principal_diff"], avg["theta_S_deg"]))
     row["intrinsic"] = int(phi == 0)
     # "t_end", or how a run stopped early ("contact", "numerical"); such a row averages

@@ -1,0 +1,70 @@
+"""Standard errors of time averages of correlated samples.
+
+Successive samples of a run are correlated over a strain of order one, so the naive
+std/sqrt(n) underestimates the error of a time average. The error used throughout is
+s sqrt(2 tau_int / n), with tau_int the integrated autocorrelation time in samples
+(Sokal's automatic window, c = 5). It was chosen over block averaging with blocks of a
+few tau_int: on AR(1) series with tau_int 4.5 samples and 200 samples (a window [10, 20] sampled every
+0.05 holds 200) it is 9 % low on average
+with a 24 % scatter, where blocks of 2 tau_int are 27 % low and blocks of 10 tau_int
+scatter by 41 % (tests/python/test_statistics.py checks the first).
+
+For a suspension the series is the capsule mean at each sample (the capsules of one box
+are correlated with each other too, so they are not independent samples).
+"""
+
+import math
+
+import numpy as np
+from scipy import signal
+
+SOKAL_WINDOW = 5.0  # window W: the smallest with W >= c tau_int(W) (Sokal 1997, c = 5)
+
+
+def integrated_autocorrelation_time(x):
+    """tau_int of the 1-D series `x`, in samples: 1/2 + sum_{k=1}^{W} rho(k) with the
+    automatic window W. 0.5 for uncorrelated samples; 0.5 for a constant series."""
+    x = np.asarray(x, dtype=float)
+    if x.size < 2:
+        return 0.5
+    dev = x - x.mean()
+    acov = signal.correlate(dev, dev, mode="full", method="fft")[x.size - 1:]
+    if acov[0] <= 0.0:
+        return 0.5
+    rho = acov / acov[0]
+    tau = 0.5 + np.cumsum(rho[1:])
+    window = np.arange(1, x.size)
+    inside = window < SOKAL_WINDOW * tau
+    # The first window that holds c tau; all of the series when none does.
+    last = int(np.argmin(inside)) if not inside.all() else x.size - 2
+    return float(max(tau[last], 0.5))
+
+
+def mean_standard_error(x):
+    """Standard error of the mean of the 1-D series `x`: s sqrt(2 tau_int / n).
+
+    Returns (standard_error, tau_int). n / (2 tau_int) is the number of effectively
+    independent samples; NaN for fewer than two samples.
+    """
+    x = np.asarray(x, dtype=float)
+    if x.size < 2:
+        return math.nan, 0.5
+    tau = integrated_autocorrelation_time(x)
+    return float(x.std(ddof=1) * math.sqrt(2.0 * tau / x.size)), tau
+
+
+def standard_error(series, time, t_start, t_end):
+    """Standard error of the time average over [t_start, t_end], per component.
+
+    `series` has the sample index first, then optionally the capsule index, then any
+    component axes (as analysis.read_run.time_average). The capsule axis is averaged
+    first. Returns a float, or an array of the component shape.
+    """
+    series = np.asarray(series, dtype=float)
+    window = (np.asarray(time) >= t_start) & (np.asarray(time) <= t_end)
+    selected = series[window]
+    if selected.ndim >= 2:
+        selected = selected.mean(axis=1)
+    flat = selected.reshape(selected.shape[0], -1)
+    errors = np.array([mean_standard_error(flat[:, j])[0] for j in range(flat.shape[1])])
+    return float(errors[0]) if selected.ndim == 1 else errors.reshape(selected.shape[1:])

@@ -1,0 +1,56 @@
+"""The standard error of a time average of correlated samples (analysis.statistics),
+against AR(1) series whose autocorrelation time is known in closed form."""
+
+import numpy as np
+import pytest
+
+from analysis.statistics import (integrated_autocorrelation_time, mean_standard_error,
+                                 standard_error)
+
+
+def ar1(rng, phi, samples, series=1):
+    """`series` stationary AR(1) series x_i = phi x_{i-1} + e_i with unit noise; their
+    tau_int is (1 + phi) / (2 (1 - phi)) samples."""
+    noise = rng.standard_normal((series, samples))
+    x = np.empty_like(noise)
+    x[:, 0] = noise[:, 0] / np.sqrt(1.0 - phi**2)
+    for i in range(1, samples):
+        x[:, i] = phi * x[:, i - 1] + noise[:, i]
+    return x
+
+
+def test_autocorrelation_time_of_a_long_series():
+    # 2e5 samples: the estimate's own error is about sqrt(2 (2W + 1) / n) tau, 2 %.
+    x = ar1(np.random.default_rng(1), 0.8, 200_000)[0]
+    assert integrated_autocorrelation_time(x) == pytest.approx(4.5, rel=0.05)
+
+
+def test_uncorrelated_and_constant_series():
+    x = np.random.default_rng(2).standard_normal(20_000)
+    assert integrated_autocorrelation_time(x) == pytest.approx(0.5, abs=0.05)
+    assert integrated_autocorrelation_time(np.full(50, 3.0)) == 0.5
+    assert mean_standard_error(np.full(50, 3.0))[0] == 0.0
+
+
+def test_standard_error_matches_the_spread_of_means():
+    # 1000 series of 200 samples (tau_int 4.5): the standard error must describe the
+    # spread of their means. The estimator is biased low by the finite window (9 %
+    # here); 15 % allows for that and the 2 % sampling error of the spread itself.
+    xs = ar1(np.random.default_rng(3), 0.8, 200, series=1000)
+    spread = xs.mean(axis=1).std()
+    errors = np.array([mean_standard_error(x)[0] for x in xs])
+    assert np.sqrt(np.mean(errors**2)) == pytest.approx(spread, rel=0.15)
+    naive = xs.std(axis=1, ddof=1).mean() / np.sqrt(200)
+    assert naive < 0.5 * spread  # what ignoring the correlation would report
+
+
+def test_standard_error_of_a_run_series_averages_capsules_first():
+    rng = np.random.default_rng(4)
+    time = np.arange(400) * 0.05
+    common = ar1(rng, 0.8, 400)[0]
+    series = common[:, None] + 0.0 * rng.standard_normal((400, 3))  # 3 equal capsules
+    window = time >= 10.0
+    expected = mean_standard_error(common[window])[0]
+    assert standard_error(series, time, 10.0, 20.0) == pytest.approx(expected, rel=1e-12)
+    tensor = np.broadcast_to(series[:, :, None, None], (400, 3, 3, 3))
+    assert standard_error(tensor, time, 10.0, 20.0).shape == (3, 3)
