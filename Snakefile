@@ -37,6 +37,7 @@ include: "workflow/rules/multipole.smk"
 include: "workflow/rules/snapshots.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/checks.smk"
+include: "workflow/rules/accuracy.smk"
 
 
 rule all:

@@ -46,6 +46,7 @@ void write_summary_json(const std::string& path, const RunOptions& o,
   j.field("rejected_steps", facts.rejected_steps);
   j.field("mean_edge_length", facts.mean_edge);
   j.field("wall_seconds", facts.wall_seconds);
+  j.field("cpu_seconds", facts.cpu_seconds);
   j.field("threads", facts.threads);
   j.field("resumed", facts.resumed);
   if (facts.box_side > 0) {

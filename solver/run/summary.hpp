@@ -10,6 +10,7 @@ namespace capsim {
 
 struct SummaryFacts {
   double dt = 0, mean_edge = 0, wall_seconds = 0;
+  double cpu_seconds = 0; // of the process, all threads: this invocation
   long steps = 0;
   long rejected_steps = 0; // adaptive step: tried and rejected
   int threads = 1;

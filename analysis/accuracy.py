@@ -1,0 +1,298 @@
+"""The accuracy study: which settings buy which accuracy at which cost.
+
+Each setting changes one parameter of a base run (mesh level, Ewald tolerance, time
+scheme and step, capsules M, averaging window); the relative error of <D>, mu_sp and N1
+of every setting is split into four parts, each measured on its own:
+
+- discretisation: against the finest mesh level of the study; the finest level's own
+  error from the observed order of the three finest levels (Richardson);
+- Ewald: against a tight tolerance, over an early window in which the trajectories of
+  both runs still coincide (a suspension is chaotic, so later windows differ by more
+  than the Ewald error);
+- time step: against a small step, over the same early window (the dilute limit, which is
+  steady, over its averaging window);
+- statistics: the standard error of the time average (analysis.statistics).
+
+The total is their root sum of squares. The cost of a setting is the CPU seconds per
+unit strain of its run (summary.json's cpu_seconds: all threads, its last invocation). The study's plan
+(plan()) is shared by the workflow, which runs it, and by main(), which reads it back.
+"""
+
+import argparse
+import json
+import math
+import re
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from analysis.read_run import read_summary
+from analysis.tables import run_row, write_table
+
+QUANTITIES = ("D", "mu_sp", "N1")
+PARTS = ("disc", "ewald", "time", "stat")
+TIME_CODE = re.compile(r"^(heun|imex)([0-9.eE+-]+)$")
+NOMINAL_ORDER = 2.0  # P1 elements: used where the observed order cannot be measured
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One point of the study: a run and the window its averages are taken over."""
+    case: str  # "suspension" or "dilute_ca<Ca>"
+    family: str  # base, mesh, ewald, time, capsules, window, or a configuration's name
+    ca: float
+    phi: float  # 0: one capsule in unbounded shear
+    level: int
+    capsules: int
+    ewald: float  # 0 for the dilute limit
+    time: str  # "heun<dt_safety>" (fixed step) or "imex<time.tolerance>" (adaptive)
+    t_end: float
+    window: tuple
+    seed: int = 1
+
+    @property
+    def run(self):
+        """The run's folder name: all that distinguishes its run."""
+        if self.phi == 0:
+            return f"ca{self.ca:g}_phi0_level{self.level}_{self.time}_t{self.t_end:g}"
+        return (f"ca{self.ca:g}_phi{self.phi:g}_M{self.capsules}_level{self.level}"
+                f"_seed{self.seed}_ewald{self.ewald:g}_{self.time}_t{self.t_end:g}")
+
+    @property
+    def label(self):
+        changed = {"mesh": f"level {self.level}", "ewald": f"Ewald {self.ewald:g}",
+                   "time": self.time, "capsules": f"M {self.capsules}",
+                   "window": f"[{self.window[0]:g}, {self.window[1]:g}]"}
+        return changed.get(self.family, self.family)
+
+
+def time_options(code):
+    """capsim --set options of a time code: heun<dt_safety> or imex<tolerance>."""
+    match = TIME_CODE.match(code)
+    if not match:
+        raise ValueError(f"accuracy: time setting '{code}' is not heun<dt_safety> or "
+                         "imex<tolerance> (e.g. heun0.5, imex0.001)")
+    scheme, value = match.group(1), float(match.group(2))
+    if scheme == "heun":
+        return ["time.scheme=heun", "time.tolerance=0", f"dt_safety={value:g}"]
+    return ["time.scheme=imex", f"time.tolerance={value:g}"]
+
+
+def capsim_options(setting, threads):
+    """The `capsim run` options of a setting's run (without -o)."""
+    keys = [f"ca={setting.ca:g}", f"mesh_level={setting.level}",
+            f"t_end={setting.t_end:g}", f"t_avg_start={setting.window[0]:g}",
+            f"threads={threads}"] + time_options(setting.time)
+    if setting.phi > 0:
+        keys += [f"phi={setting.phi:g}", f"capsules={setting.capsules}",
+                 f"seed={setting.seed}", f"ewald.tolerance={setting.ewald:g}"]
+    return " ".join(f"--set {key}" for key in keys)
+
+
+def _suspension_plan(block):
+    s = block["suspension"]
+    b = block["base"]
+    base = Setting("suspension", "base", s["ca"], s["phi"], b["mesh_level"], b["capsules"],
+                   b["ewald_tolerance"], b["time"], b["t_end"], tuple(b["window"]),
+                   s.get("seed", 1))
+    configurations = block.get("configurations", {}).values()
+
+    def values(key, own):  # a family's values, the base's, and those of configurations
+        return list(dict.fromkeys([b[own]] + list(block[key]) +
+                                  [c[own] for c in configurations]))
+
+    points = [base]
+    points += [replace(base, family="mesh", level=v) for v in values("mesh_levels",
+                                                                      "mesh_level")]
+    points += [replace(base, family="ewald", ewald=v)
+               for v in values("ewald_tolerances", "ewald_tolerance")]
+    points += [replace(base, family="time", time=v) for v in values("times", "time")]
+    points += [replace(base, family="capsules", capsules=v) for v in block["capsules"]]
+    # A window is a part of the base run: it costs no run of its own.
+    points += [replace(base, family="window", window=tuple(w)) for w in block["windows"]]
+    for name, c in block.get("configurations", {}).items():
+        points.append(replace(base, family=name, level=c["mesh_level"],
+                              capsules=c["capsules"], ewald=c["ewald_tolerance"],
+                              time=c["time"], t_end=c["window"][1],
+                              window=tuple(c["window"])))
+    return points
+
+
+def _dilute_plan(block):
+    d = block["dilute"]
+    points = []
+    for ca in d["ca"]:
+        base = Setting(f"dilute_ca{ca:g}", "base", ca, 0.0, d["mesh_level"], 1, 0.0,
+                       block["base"]["time"], d["t_end"], tuple(d["window"]))
+        points += [base] + [replace(base, family="mesh", level=v) for v in d["mesh_levels"]]
+        points += [replace(base, family="time", time=v)
+                   for v in dict.fromkeys([base.time] + list(block["times"]))]
+    return points
+
+
+def references(block):
+    """The reference runs of the Ewald and time parts: the suspension's base over the
+    early window with a tight Ewald tolerance, or with a small step; the dilute base with
+    the small step over its own window."""
+    base = _suspension_plan(block)[0]
+    ref = block["reference"]
+    short = replace(base, family="reference", t_end=block["short_window"][1],
+                    window=tuple(block["short_window"]))
+    refs = {("suspension", "ewald"): replace(short, ewald=ref["ewald_tolerance"]),
+            ("suspension", "time"): replace(short, time=ref["time"])}
+    for point in _dilute_plan(block):
+        if point.family == "base":
+            refs[(point.case, "time")] = replace(point, family="reference", time=ref["time"])
+    return refs
+
+
+def plan(block):
+    """Every setting of the study (a setting may appear in more than one family: the base
+    is also a mesh level, a tolerance, a time setting, an M and a window)."""
+    points = _suspension_plan(block) + _dilute_plan(block)
+    for point in points:
+        time_options(point.time)  # a readable error for a bad time code, before any run
+    return points
+
+
+def run_names(block):
+    """The folder names of every run the study needs (settings and references)."""
+    names = {}
+    for point in plan(block) + list(references(block).values()):
+        names.setdefault(point.run, point)  # the first (the base) sets t_avg_start
+    return names
+
+
+def run_values(results, setting, window=None):
+    """<D>, mu_sp, N1 and their standard errors of a setting's run over `window`
+    (default: the setting's own)."""
+    t0, t1 = window or setting.window
+    row = run_row(Path(results) / setting.run, t0, t1)
+    return {q: row[q] for q in QUANTITIES} | {f"{q}_se": row[f"{q}_se"] for q in QUANTITIES}
+
+
+def observed_order(values_by_level):
+    """p from the three finest levels (h halves per level): log2 of the ratio of the
+    successive differences; NaN where it cannot be observed (fewer levels, or the
+    differences do not shrink)."""
+    levels = sorted(values_by_level)[-3:]
+    if len(levels) < 3:
+        return math.nan
+    v = [values_by_level[level] for level in levels]
+    coarse, fine = abs(v[1] - v[0]), abs(v[2] - v[1])
+    return math.log2(coarse / fine) if fine > 0 and coarse > fine else math.nan
+
+
+def discretisation_errors(values_by_level):
+    """Relative error of each level against the finest, and of the finest from the
+    observed order (the nominal order where none is observed). Returns (errors, p)."""
+    levels = sorted(values_by_level)
+    finest = values_by_level[levels[-1]]
+    p = observed_order(values_by_level)
+    errors = {level: abs(values_by_level[level] - finest) / abs(finest) for level in levels}
+    if len(levels) > 1:
+        order = p if math.isfinite(p) else NOMINAL_ORDER
+        errors[levels[-1]] = errors[levels[-2]] / (2.0**order - 1.0)
+    else:
+        errors[levels[-1]] = math.nan
+    return errors, p
+
+
+def cost(run_dir):
+    """Wall and CPU seconds of a run (summary.json: its last invocation) and the CPU
+    seconds per unit strain."""
+    summary = read_summary(run_dir)
+    return {"wall_s": float(summary["wall_seconds"]), "cpu_s": float(summary["cpu_seconds"]),
+            "cpu_s_per_strain": float(summary["cpu_seconds"]) / float(summary["t_end"])}
+
+
+def pareto_front(cost_values, errors):
+    """True where no other point is at most as costly and as wrong, and better in one."""
+    c, e = np.asarray(cost_values, float), np.asarray(errors, float)
+    dominated = [(c <= ci) & (e <= ei) & ((c < ci) | (e < ei)) for ci, ei in zip(c, e)]
+    return np.array([np.isfinite(ei) and not d.any() for ei, d in zip(e, dominated)])
+
+
+def _case_parts(block, results, points):
+    """The error parts of one case: {part: {key: {quantity: relative error}}}, keyed by
+    the level, the Ewald tolerance, the time code; and the observed orders."""
+    refs = references(block)
+    case = points[0].case
+    base = points[0]
+    own = {p: run_values(results, p) for p in points}
+    by_level = {p.level: own[p] for p in points if p.family == "mesh"}
+    disc, orders = {}, {}
+    for q in QUANTITIES:
+        errors, orders[q] = discretisation_errors({k: v[q] for k, v in by_level.items()})
+        for level, e in errors.items():
+            disc.setdefault(level, {})[q] = e
+    parts = {"disc": disc, "ewald": {}, "time": {}}
+    for family, attr in (("ewald", "ewald"), ("time", "time")):
+        ref = refs.get((case, family))
+        if ref is None:  # no Ewald sums in unbounded shear
+            continue
+        window = ref.window
+        want = run_values(results, ref)
+        for p in (p for p in points if p.family == family):
+            got = run_values(results, p, window)
+            parts[family][getattr(p, attr)] = {q: abs(got[q] - want[q]) / abs(want[q])
+                                               for q in QUANTITIES}
+    if case.startswith("dilute"):
+        parts["ewald"][base.ewald] = {q: 0.0 for q in QUANTITIES}
+    return parts, orders, own
+
+
+def error_table(block, results):
+    """One row per setting of the study: its parameters, cost, values, error parts and
+    total for each quantity, whether it is on the Pareto front (per case and quantity),
+    and the observed mesh order of its case. A DataFrame."""
+    rows = []
+    points = plan(block)
+    for case in dict.fromkeys(p.case for p in points):
+        mine = [p for p in points if p.case == case]
+        parts, orders, own = _case_parts(block, results, mine)
+        seen = {}
+        for p in mine:
+            key = (p.run, p.window)
+            if key in seen:
+                seen[key]["families"] += f";{p.family}"
+                continue
+            row = {"case": case, "family": p.family, "families": p.family, "label": p.label,
+                   "ca": p.ca, "phi": p.phi, "mesh_level": p.level, "capsules": p.capsules,
+                   "ewald_tolerance": p.ewald, "time": p.time, "t_end": p.t_end,
+                   "window_start": p.window[0], "window_end": p.window[1], "run": p.run}
+            row |= cost(Path(results) / p.run)
+            for q in QUANTITIES:
+                value = own[p]
+                split = {"disc": parts["disc"].get(p.level, {}).get(q, math.nan),
+                         "ewald": parts["ewald"].get(p.ewald, {}).get(q, math.nan),
+                         "time": parts["time"].get(p.time, {}).get(q, math.nan),
+                         "stat": value[f"{q}_se"] / abs(value[q])}
+                row |= {q: value[q], f"{q}_se": value[f"{q}_se"], f"{q}_order": orders[q]}
+                row |= {f"{q}_{part}": split[part] for part in PARTS}
+                row[f"{q}_total"] = math.sqrt(sum(e * e for e in split.values()))
+            seen[key] = row
+            rows.append(row)
+    table = pd.DataFrame(rows)
+    for q in QUANTITIES:
+        table[f"{q}_pareto"] = False
+        for case, group in table.groupby("case"):
+            front = pareto_front(group["cpu_s_per_strain"], group[f"{q}_total"])
+            table.loc[group.index, f"{q}_pareto"] = front
+    return table
+
+
+def main(argv=None):
+    """CLI: python -m analysis.accuracy --plan JSON --results DIR --out CSV."""
+    ap = argparse.ArgumentParser(description="The accuracy study's error table.")
+    ap.add_argument("--plan", required=True, help="the accuracy block of the config (JSON)")
+    ap.add_argument("--results", required=True, help="the folder of the study's runs")
+    ap.add_argument("--out", required=True)
+    args = ap.parse_args(argv)
+    write_table(args.out, error_table(json.loads(args.plan), args.results))
+
+
+if __name__ == "__main__":
+    main()
