@@ -80,11 +80,14 @@ def time_options(code):
     return ["time.scheme=imex", f"time.tolerance={value:g}"]
 
 
-def capsim_options(setting, threads):
-    """The `capsim run` options of a setting's run (without -o)."""
+def capsim_options(setting, threads, sample_interval):
+    """The `capsim run` options of a setting's run (without -o). An adaptive step ends on
+    every sample time, so the sample interval bounds it: it must not be what limits the
+    step of the settings compared."""
     keys = [f"ca={setting.ca:g}", f"mesh_level={setting.level}",
             f"t_end={setting.t_end:g}", f"t_avg_start={setting.window[0]:g}",
-            f"threads={threads}"] + time_options(setting.time)
+            f"threads={threads}", f"output.sample_interval={sample_interval:g}",
+            "output.snapshot_interval=0"] + time_options(setting.time)
     if setting.phi > 0:
         keys += [f"phi={setting.phi:g}", f"capsules={setting.capsules}",
                  f"seed={setting.seed}", f"ewald.tolerance={setting.ewald:g}"]

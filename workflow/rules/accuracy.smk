@@ -24,8 +24,8 @@ rule accuracy_run:
         name="|".join(re.escape(name) for name in ACCURACY_RUNS),
     params:
         dir="results/accuracy/{name}",
-        options=lambda wc, threads: accuracy_study.capsim_options(ACCURACY_RUNS[wc.name],
-                                                                  threads),
+        options=lambda wc, threads: accuracy_study.capsim_options(
+            ACCURACY_RUNS[wc.name], threads, ACCURACY["sample_interval"]),
     threads: config["resources"]["threads"]
     resources:
         runtime=lambda wc: config["resources"]["suspension_minutes"],
