@@ -43,7 +43,7 @@ from analysis.tables import read_table, select
 
 SOURCES = ("analytic", "paper", "reference-run")
 # A difference beyond 3 standard errors has a chance of 0.3 % for a Gaussian estimate (2.7
-# standard errors, 0.7 %, with the estimator's 9 % low bias, analysis.statistics): a
+# standard errors, 0.6 %, with the estimator's 9 % low bias, analysis.statistics): a
 # dozen expectations then fail on noise alone in fewer than one check in ten.
 K_STANDARD_ERRORS = 3.0
 
