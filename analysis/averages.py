@@ -8,6 +8,7 @@ import numpy as np
 
 from analysis.read_run import time_average
 from analysis.statistics import standard_error
+from analysis.stresslet import decomposition_gradients
 
 T_START = 10.0  # paper section 4.1: the average starts after gammadot*t = 10
 
@@ -25,7 +26,10 @@ def run_averages(ts, t_start=T_START, t_end=None):
     average of the capsule mean (analysis.statistics). Returns a dict: D, D_std, D_se,
     theta_D_deg, theta_D_std_deg, theta_D_se_deg, principal_diff (<S1 - S2>),
     theta_S_deg, stresslet (3x3 mean, Gs a^2), stresslet_se (3x3), normal_differences_se
-    (of S_xx - S_yy and S_yy - S_zz), count (sample values), t_start, t_end, capsules.
+    (of S_xx - S_yy and S_yy - S_zz), principal_diff_se, theta_S_se_deg,
+    decomposition_se (dict: the standard errors of the right-hand sides of eqs. 4.14, 4.15
+    and of sin, cos 2<theta_S>, analysis.stresslet.decomposition_gradients), count (sample
+    values), t_start, t_end, capsules.
     """
     time = ts["time"]
     t_end = window_end(time, t_end)
@@ -44,6 +48,14 @@ def run_averages(ts, t_start=T_START, t_end=None):
     out["stresslet_se"] = standard_error(s, time, t_start, t_end)
     differences = np.stack([s[..., 0, 0] - s[..., 1, 1], s[..., 1, 1] - s[..., 2, 2]], -1)
     out["normal_differences_se"] = standard_error(differences, time, t_start, t_end)
+    out["principal_diff_se"] = standard_error(ts["principal_diff"], time, t_start, t_end)
+    out["theta_S_se_deg"] = standard_error(ts["theta_S_deg"], time, t_start, t_end)
+    gradients = decomposition_gradients(out["principal_diff"], out["theta_S_deg"])
+    out["decomposition_se"] = {
+        name: standard_error(a * np.asarray(ts["principal_diff"], dtype=float)
+                             + b * np.asarray(ts["theta_S_deg"], dtype=float),
+                             time, t_start, t_end)
+        for name, (a, b) in gradients.items()}
     return out
 
 
@@ -57,6 +69,17 @@ def running_average(series, time, t_start, t_ends):
     for i, t_e in enumerate(t_ends):
         if np.any((time >= t_start) & (time <= t_e)):
             out[i] = time_average(series, time, t_start, t_e)[0]
+    return out
+
+
+def running_standard_error(series, time, t_start, t_ends):
+    """The standard error (analysis.statistics) of <f>(t_e) for every end time in
+    `t_ends`, as running_average; NaN where fewer than two samples lie in [t_start, t_e].
+    Near t_s the window holds few correlation times and the estimate is rough."""
+    out = np.full(len(t_ends), np.nan)
+    for i, t_e in enumerate(t_ends):
+        if np.count_nonzero((time >= t_start) & (time <= t_e)) >= 2:
+            out[i] = standard_error(series, time, t_start, t_e)
     return out
 
 

@@ -11,9 +11,22 @@ An expectations file is YAML:
         rel_tol: 0.05                    #   or min/max bounds instead of value
         source: paper                    # analytic | paper | reference-run
         provenance: "Table 1, N_E = 5120 average (Ca 0.2, phi 0.3, M 100)"
+        se_column: mu_sp_se              # optional: the standard error of the checked value
+        value_se: 0.0                    # optional: the standard error of `value`
 
 Every expectation must state where its value comes from (`source` and `provenance`);
-a value copied from the same run it checks is not an expectation. Usage:
+a value copied from the same run it checks is not an expectation.
+
+Standard errors: where the checked value is a time average (its row has a standard-error
+column, analysis.statistics) or the expected value comes from a run with a known standard
+error, `se_column` and `value_se` give them. The difference of two independent averages
+then has the standard error se = sqrt(se_column^2 + value_se^2), and the value passes
+within max(tolerance, k se): the tolerance (rel_tol/abs_tol) stays the bound where it is
+the wider (it budgets the systematic differences, mesh and box, and in the suspension
+expectations already the statistical spread: adding k se on top would count the
+statistics twice), and k se takes over where the run is noisier than the tolerance
+assumed, so a check does not fail on noise alone. k is the file's top-level `k`
+(K_STANDARD_ERRORS = 3 when absent). Usage:
     python -m analysis.check --results results --report R.md config/expected/a.yaml ...
 Exit status 1 if any expectation fails, with one readable line per failure.
 """
@@ -29,6 +42,10 @@ import yaml
 from analysis.tables import read_table, select
 
 SOURCES = ("analytic", "paper", "reference-run")
+# A difference beyond 3 standard errors has a chance of 0.3 % for a Gaussian estimate (2.7
+# standard errors, 0.6 %, with the estimator's 9 % low bias, analysis.statistics): a
+# dozen expectations then fail on noise alone in fewer than one check in ten.
+K_STANDARD_ERRORS = 3.0
 
 
 class ExpectationError(ValueError):
@@ -42,6 +59,10 @@ def load_expectations(path):
     items = data.get("expectations")
     if not isinstance(items, list) or not items:
         raise ExpectationError(f"{path}: needs a non-empty list 'expectations'")
+    k = data.get("k", K_STANDARD_ERRORS)
+    if isinstance(k, bool) or not isinstance(k, (int, float)) or not k > 0:
+        raise ExpectationError(f"{path}: 'k' (standard errors) must be a positive number, "
+                               f"got '{k}'")
     for i, e in enumerate(items):
         where = f"{path}: expectation {i} ({e.get('id', 'no id')})"
         for key in ("id", "file", "column", "source", "provenance"):
@@ -55,8 +76,11 @@ def load_expectations(path):
         if not (has_value or has_bounds):
             raise ExpectationError(f"{where}: give 'value' with 'rel_tol'/'abs_tol', "
                                    "or 'min'/'max'")
+        if ("se_column" in e or "value_se" in e) and not has_value:
+            raise ExpectationError(f"{where}: 'se_column'/'value_se' need a 'value'")
         e.setdefault("where", {})
         e["_file"] = str(path)
+        e["_k"] = float(k)
     return items
 
 
@@ -77,9 +101,20 @@ def check_one(e, results):
     if e.get("value") is not None:
         want = float(e["value"])
         tol = max(float(e.get("abs_tol", 0.0)), float(e.get("rel_tol", 0.0)) * abs(want))
+        stat = ""
+        if "se_column" in e or "value_se" in e:
+            se_got = rows.iloc[0].get(e["se_column"]) if "se_column" in e else 0.0
+            if not pd.api.types.is_number(se_got) or isinstance(se_got, bool) \
+                    or math.isnan(se_got):
+                return False, (f"FAIL {label}: standard-error column '{e['se_column']}' is "
+                               f"'{se_got}', not a number")
+            se = math.hypot(float(se_got), float(e.get("value_se", 0.0)))
+            k = e.get("_k", K_STANDARD_ERRORS)
+            tol = max(tol, k * se)
+            stat = f"; {k:g} SE = {k * se:.3g}, SE {se:.3g}"
         ok = abs(got - want) <= tol
         detail = (f"{e['column']} = {got:.6g}, expected {want:.6g} +- {tol:.3g} "
-                  f"(off by {got - want:+.3g})")
+                  f"(off by {got - want:+.3g}{stat})")
     else:
         lo, hi = float(e.get("min", -math.inf)), float(e.get("max", math.inf))
         ok = lo <= got <= hi

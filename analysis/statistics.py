@@ -68,3 +68,33 @@ def standard_error(series, time, t_start, t_end):
     flat = selected.reshape(selected.shape[0], -1)
     errors = np.array([mean_standard_error(flat[:, j])[0] for j in range(flat.shape[1])])
     return float(errors[0]) if selected.ndim == 1 else errors.reshape(selected.shape[1:])
+
+
+def mean_of_runs_standard_error(errors):
+    """Standard error of the mean of n independent runs' averages, from their standard
+    errors: sqrt(sum se_i^2) / n. NaN if any is NaN (or none is given)."""
+    errors = np.asarray(errors, dtype=float)
+    if errors.size == 0:
+        return math.nan
+    return float(np.sqrt(np.sum(errors**2)) / errors.size)
+
+
+def propagated_standard_error(func, values, errors):
+    """Standard error of func(values) for independent estimates `values` with standard
+    errors `errors`, to first order (the delta method): sqrt(sum_j (df/dx_j se_j)^2).
+
+    Each term is the central difference (f(x + se_j e_j) - f(x - se_j e_j)) / 2, exact for
+    a function linear in x_j. `func` maps a 1-D array to a number or an array; the result
+    has its shape. An input with a NaN standard error makes the result NaN.
+    """
+    x = np.asarray(values, dtype=float)
+    se = np.asarray(errors, dtype=float)
+    variance = np.zeros_like(np.asarray(func(x), dtype=float))
+    for j in np.flatnonzero(se != 0.0):  # NaN != 0 too: it propagates
+        step = np.zeros_like(x)
+        step[j] = se[j]
+        half = (np.asarray(func(x + step), dtype=float)
+                - np.asarray(func(x - step), dtype=float)) / 2.0
+        variance = variance + half**2
+    out = np.sqrt(variance)
+    return float(out) if out.ndim == 0 else out

@@ -49,3 +49,19 @@ def decomposition(mean_stresslet, mean_principal_diff, mean_theta_s_deg):
         "sin2theta_S": float(np.sin(angle)),
         "cos2theta_S": float(np.cos(angle)),
     }
+
+
+def decomposition_gradients(mean_principal_diff, mean_theta_s_deg):
+    """The derivatives (d/d<S1-S2>, d/d<theta_S> per degree) of the right-hand sides of
+    eqs. 4.14, 4.15 and of sin, cos 2<theta_S>, at the means: a dict name -> (a, b). The
+    standard error of such a quantity is that of the time average of the linearised series
+    a (S1 - S2)(t) + b theta_S(t) (analysis.averages), which keeps the correlation of the
+    two series."""
+    p = float(mean_principal_diff)
+    angle = 2.0 * np.radians(mean_theta_s_deg)
+    per_degree = 2.0 * np.pi / 180.0  # d(2 theta in radians) / d(theta in degrees)
+    sin, cos = float(np.sin(angle)), float(np.cos(angle))
+    return {"S12_principal": (0.5 * sin, 0.5 * p * cos * per_degree),
+            "S11_S22_principal": (cos, -p * sin * per_degree),
+            "sin2theta_S": (0.0, cos * per_degree),
+            "cos2theta_S": (0.0, -sin * per_degree)}

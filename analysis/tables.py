@@ -21,10 +21,22 @@ from analysis.stresslet import decomposition
 PARAMETERS = ("ca", "phi", "capsules", "seed", "mesh_level")
 COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "D_se",
                          "theta_D_deg", "theta_D_std_deg", "theta_D_se_deg",
-                         "principal_diff", "theta_S_deg", "S_xx", "S_xy", "S_yy", "S_zz",
-                         "mu_sp", "mu_sp_se", "N1", "N1_se", "N2", "N2_se", "S12",
-                         "S12_principal", "S11_S22", "S11_S22_principal", "sin2theta_S",
-                         "cos2theta_S", "intrinsic", "ended", "run"))
+                         "principal_diff", "principal_diff_se", "theta_S_deg",
+                         "theta_S_se_deg", "S_xx", "S_xy", "S_yy", "S_zz",
+                         "mu_sp", "mu_sp_se", "N1", "N1_se", "N2", "N2_se", "S12", "S12_se",
+                         "S12_principal", "S12_principal_se", "S11_S22", "S11_S22_se",
+                         "S11_S22_principal", "S11_S22_principal_se", "sin2theta_S",
+                         "sin2theta_S_se", "cos2theta_S", "cos2theta_S_se", "intrinsic",
+                         "ended", "run"))
+
+
+def rheology_standard_errors(avg, phi, ca):
+    """mu_sp_se, N1_se, N2_se from a run's averages (analysis.averages.run_averages). The
+    rheology is linear in the stresslet (eqs. 4.5, 4.9, 4.10), so are its errors; for
+    phi = 0 they are those of the intrinsic values."""
+    factor = stress_factor(phi, ca)
+    n1, n2 = (factor * float(e) for e in avg["normal_differences_se"])
+    return {"mu_sp_se": factor * float(avg["stresslet_se"][0, 1]), "N1_se": n1, "N2_se": n2}
 
 
 def run_row(run_dir, t_start=None, t_end=None):
@@ -43,15 +55,15 @@ def run_row(run_dir, t_start=None, t_end=None):
            "mesh_level": int(p["mesh_level"]), "t_start": avg["t_start"],
            "t_end": avg["t_end"], "count": avg["count"]}
     for key in ("D", "D_std", "D_se", "theta_D_deg", "theta_D_std_deg", "theta_D_se_deg",
-                "principal_diff", "theta_S_deg"):
+                "principal_diff", "principal_diff_se", "theta_S_deg", "theta_S_se_deg"):
         row[key] = float(avg[key])
     row.update({"S_xx": s[0, 0], "S_xy": s[0, 1], "S_yy": s[1, 1], "S_zz": s[2, 2]})
     row.update(rheology(s, phi, ca))
-    # The rheology is linear in the stresslet (eqs. 4.5, 4.9, 4.10), so are its errors.
-    factor = stress_factor(phi, ca)
-    row["mu_sp_se"] = factor * float(avg["stresslet_se"][0, 1])
-    row["N1_se"], row["N2_se"] = (factor * float(e) for e in avg["normal_differences_se"])
+    row.update(rheology_standard_errors(avg, phi, ca))
     row.update(decomposition(s, avg["principal_diff"], avg["theta_S_deg"]))
+    row["S12_se"] = float(avg["stresslet_se"][0, 1])
+    row["S11_S22_se"] = float(avg["normal_differences_se"][0])
+    row.update({f"{name}_se": float(se) for name, se in avg["decomposition_se"].items()})
     row["intrinsic"] = int(phi == 0)
     # "t_end", or how a run stopped early ("contact", "numerical"); such a row averages
     # up to its last good sample, and the figures name it in their footers.
@@ -112,19 +124,28 @@ def select(table, **match):
     return table[keep]
 
 
-def markdown_table(table, formats=None, headers=None, na_rep="nan"):
+def markdown_table(table, formats=None, headers=None, na_rep="nan", errors=None):
     """A DataFrame as a markdown table: a header line, a rule, one line per row.
 
     formats: column -> format spec of its values (default: str); headers: the names shown
-    (default: the columns); na_rep: the text of a missing value. The cells are not padded,
-    so a changed value changes one line of a committed table, not its layout.
+    (default: the columns); na_rep: the text of a missing value; errors: column -> the
+    standard errors of its values (a sequence in row order), printed after a value as
+    "0.3744 +- 0.0026" (two significant digits; nothing where the error is missing). The
+    cells are not padded, so a changed value changes one line of a committed table, not
+    its layout.
     """
     formats = formats or {}
+    errors = {column: list(values) for column, values in (errors or {}).items()}
     names = list(table.columns) if headers is None else list(headers)
     lines = ["| " + " | ".join(names) + " |", "|" + "---|" * len(names)]
-    for row in table.itertuples(index=False):
-        cells = [na_rep if pd.isna(value) else format(value, formats.get(column, ""))
-                 for column, value in zip(table.columns, row)]
+    for i, row in enumerate(table.itertuples(index=False)):
+        cells = []
+        for column, value in zip(table.columns, row):
+            cell = na_rep if pd.isna(value) else format(value, formats.get(column, ""))
+            error = errors[column][i] if column in errors else None
+            if not pd.isna(value) and error is not None and not pd.isna(error):
+                cell += f" +- {error:.2g}"
+            cells.append(cell)
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

@@ -1,6 +1,7 @@
 """Shared plumbing of the figure scripts: style, arguments, the grid table split into
-dilute and suspension rows, the section 4.2 coefficients per Ca, and saving a figure with
-its data (PNG, PDF, CSV) and a footer that states the reductions of the runs it shows."""
+dilute and suspension rows, the section 4.2 coefficients per Ca and their standard errors,
+markers with error bars, and saving a figure with its data (PNG, PDF, CSV) and a footer
+that states the reductions of the runs it shows."""
 
 import argparse
 from pathlib import Path
@@ -14,7 +15,12 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis import fits  # noqa: E402
+from analysis.statistics import propagated_standard_error  # noqa: E402
 from analysis.tables import read_table, with_data, write_table  # noqa: E402
+
+# The line of a caption that says what the error bars are (docs/workflow.md).
+ERROR_BARS = ("Bars: standard error of the time average, from the integrated "
+              "autocorrelation time (docs/conventions.md)")
 
 
 def parse_args(description):
@@ -115,6 +121,38 @@ def coefficients(dilute, susp, key, phi_max):
             c2 = float("nan")
         out[ca] = (c1, c2)
     return out
+
+
+def coefficient_errors(dilute, susp, key, phi_max):
+    """Standard errors (c1_se, c2_se) per Ca of the coefficients of `coefficients`: c1's
+    is the dilute run's (key + "_se"); c2 is linear in c1 and in the fitted values, so its
+    error follows from theirs (analysis.statistics.propagated_standard_error)."""
+    out = {}
+    for ca, rows in susp.items():
+        if ca not in dilute:
+            continue
+        c1, c1_se = dilute[ca][key], dilute[ca][key + "_se"]
+        phi = rows["phi"].to_numpy(dtype=float)
+
+        def second(v):
+            return fits.second_coefficient(phi, v[1:], v[0], phi_max)
+
+        try:
+            c2_se = propagated_standard_error(
+                second, np.concatenate([[c1], rows[key]]),
+                np.concatenate([[c1_se], rows[key + "_se"]]))
+        except ValueError:
+            c2_se = float("nan")
+        out[ca] = (float(c1_se), float(c2_se))
+    return out
+
+
+def points(ax, x, y, yerr=None, xerr=None, fmt="o", **style):
+    """Markers (and lines, by `fmt`) with error bars: the standard errors `yerr`, `xerr`
+    (none where an error is missing or smaller than the marker). `style` goes to
+    errorbar and may override the thin, capped bars."""
+    return ax.errorbar(x, y, yerr=yerr, xerr=xerr, fmt=fmt,
+                       **({"capsize": 2, "elinewidth": 0.8} | style))
 
 
 def colors(keys):

@@ -1,5 +1,6 @@
 """Figure 3: (a) ensemble average of the Taylor parameter <D> and its slope d<D>/dphi,
-(b) its standard deviation sigma_D, against phi (phi = 0: the dilute limit) for each Ca.
+with the standard errors of the time averages, (b) its standard deviation sigma_D,
+against phi (phi = 0: the dilute limit) for each Ca.
 
 Usage: python figures/fig03.py --out results/figures/fig03 results/grid/table.csv
 """
@@ -8,7 +9,7 @@ import common
 from analysis import fits
 
 
-def panels(args, key, std_key, label, std_label, number):
+def panels(args, key, se_key, std_key, label, std_label, number):
     rows, dilute, susp = common.grid_rows(args.inputs[0])
     col = common.colors(susp)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
@@ -17,13 +18,15 @@ def panels(args, key, std_key, label, std_label, number):
         if ca not in dilute:
             continue
         phi, mean = common.phi_with_dilute(dilute[ca], runs, key)
+        _, se = common.phi_with_dilute(dilute[ca], runs, se_key)
         _, std = common.phi_with_dilute(dilute[ca], runs, std_key)
         intercept, slope = fits.linear_fit(phi, mean)
-        ax_a.plot(phi, mean, "o", color=col[ca], label=f"Ca = {ca:g} (slope {slope:.3g})")
+        common.points(ax_a, phi, mean, se, color=col[ca],
+                      label=f"Ca = {ca:g} (slope {slope:.3g})")
         ax_a.plot(phi, intercept + slope * phi, "--", color=col[ca], lw=0.8)
         ax_b.plot(phi, std, "o-", color=col[ca], label=f"Ca = {ca:g}")
-        for p, m, s in zip(phi, mean, std):
-            data.append({"panel": "a,b", "ca": ca, "phi": p, key: m, std_key: s,
+        for p, m, e, s in zip(phi, mean, se, std):
+            data.append({"panel": "a,b", "ca": ca, "phi": p, key: m, se_key: e, std_key: s,
                          "slope": slope, "intercept": intercept})
     ax_a.set(xlabel=r"$\phi$", ylabel=label, title="(a)")
     ax_b.set(xlabel=r"$\phi$", ylabel=std_label, title="(b)")
@@ -31,10 +34,11 @@ def panels(args, key, std_key, label, std_label, number):
     ax_b.legend()
     caption = (f"Figure {number}. {label} with least-squares lines (slope in the legend) and "
                f"{std_label} against phi; phi = 0 is the dilute limit. "
-               + common.footer(rows, args.t_start))
+               + common.ERROR_BARS + " (a); (b) is the spread over capsules and samples, "
+               "shown without bars. " + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)
 
 
 if __name__ == "__main__":
-    panels(common.parse_args(__doc__.splitlines()[0]), "D", "D_std",
+    panels(common.parse_args(__doc__.splitlines()[0]), "D", "D_se", "D_std",
            r"$\langle D\rangle$", r"$\sigma_D$", 3)

@@ -1,7 +1,8 @@
 """Figure 5: (a) specific viscosity mu_sp against phi for each Ca, with a1 phi + a2 phi^2
 (grey dotted) and the Krieger-Dougherty curve of rigid spheres (eq. 4.7, black);
 (b) the coefficients a1 (dilute limit) and a2 (least squares over 0 <= phi <= 0.10) of
-eq. 4.6 against Ca, with the rigid-sphere values of eq. 4.8.
+eq. 4.6 against Ca, with the rigid-sphere values of eq. 4.8. Bars: standard errors of the
+time averages, and of a1, a2 propagated from them.
 
 Usage: python figures/fig05.py --out results/figures/fig05 results/grid/table.csv
 """
@@ -15,6 +16,7 @@ from analysis import fits
 def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     rows, dilute, susp = common.grid_rows(args.inputs[0])
     coef = common.coefficients(dilute, susp, key, args.fit_phi_max)
+    coef_se = common.coefficient_errors(dilute, susp, key, args.fit_phi_max)
     col = common.colors(coef)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
@@ -22,10 +24,14 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     smooth = np.linspace(0, phi_max, 60)
     for ca, (c1, c2) in sorted(coef.items()):
         phi, y = common.phi_with_dilute(dilute[ca], susp[ca], key, dilute_value=0.0)
-        ax_a.plot(phi, y, "o", color=col[ca], label=f"Ca = {ca:g}")
+        _, se = common.phi_with_dilute(dilute[ca], susp[ca], key + "_se", dilute_value=0.0)
+        common.points(ax_a, phi, y, se, color=col[ca], label=f"Ca = {ca:g}")
         ax_a.plot(smooth, c1 * smooth + c2 * smooth**2, ":", color="0.5")
-        data += [{"panel": "a", "ca": ca, "phi": p, key: v} for p, v in zip(phi, y)]
-        data.append({"panel": "b", "ca": ca, c_names[0]: c1, c_names[1]: c2})
+        data += [{"panel": "a", "ca": ca, "phi": p, key: v, key + "_se": e}
+                 for p, v, e in zip(phi, y, se)]
+        data.append({"panel": "b", "ca": ca, c_names[0]: c1,
+                     c_names[0] + "_se": coef_se[ca][0], c_names[1]: c2,
+                     c_names[1] + "_se": coef_se[ca][1]})
     if rigid:
         ax_a.plot(smooth, fits.kd_specific_viscosity(smooth, args.phi_m), "k-",
                   label=f"rigid spheres (KD, phi_m = {args.phi_m:g})")
@@ -35,8 +41,9 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
         data.append({"panel": "b", "ca": 0.0, "series": "krieger-dougherty",
                      c_names[0]: kd[0], c_names[1]: kd[1], "phi_m": args.phi_m})
     cas = sorted(coef)
-    ax_b.plot(cas, [coef[c][0] for c in cas], "o-", color="C0", label=c_names[0])
-    ax_b.plot(cas, [coef[c][1] for c in cas], "s--", color="C3", label=c_names[1])
+    for i, (fmt, color) in enumerate((("o-", "C0"), ("s--", "C3"))):
+        common.points(ax_b, cas, [coef[c][i] for c in cas], [coef_se[c][i] for c in cas],
+                      fmt=fmt, color=color, label=c_names[i])
     ax_a.set(xlabel=r"$\phi$", ylabel=ylabel, title="(a)")
     ax_b.set(xlabel="Ca", ylabel=f"{c_names[0]}, {c_names[1]}", title="(b)")
     ax_a.legend()
@@ -44,7 +51,8 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     caption = (f"Figure {number}. (a) {ylabel} against phi; grey dotted: "
                f"{c_names[0]} phi + {c_names[1]} phi^2. (b) {c_names[0]} from the dilute limit, "
                f"{c_names[1]} by least squares over 0 <= phi <= {args.fit_phi_max:g}. "
-               + common.footer(rows, args.t_start))
+               + common.ERROR_BARS + f"; those of {c_names[0]}, {c_names[1]} propagated "
+               "from them. " + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)
 
 

@@ -1,5 +1,6 @@
 """Figure 6: ratios of (a) a1 phi and (b) a1 phi + a2 phi^2 to mu_sp against phi for each
-Ca, with the rigid-sphere (Krieger-Dougherty) ratios; 1 - (b) is the O(phi^3) share.
+Ca, with the rigid-sphere (Krieger-Dougherty) ratios; 1 - (b) is the O(phi^3) share. Bars:
+standard errors propagated from those of the time averages (the values and a1, a2).
 
 Usage: python figures/fig06.py --out results/figures/fig06 results/grid/table.csv
 """
@@ -8,21 +9,46 @@ import numpy as np
 
 import common
 from analysis import fits
+from analysis.statistics import propagated_standard_error
+
+
+def share_errors(phi, values, errors, first, first_se, phi_max):
+    """Standard errors of the first and second shares of fits.order_shares at every phi:
+    the shares depend on c1, on the value at that phi and, through c2 (fitted over
+    phi <= phi_max), on the values in the fitting range; all are independent averages.
+    The O(phi^3) share has the second's error."""
+    n = len(phi)
+
+    def shares(v):
+        c2 = fits.second_coefficient(phi, v[1:], v[0], phi_max)
+        return np.concatenate(fits.order_shares(phi, v[1:], v[0], c2)[:2])
+
+    se = propagated_standard_error(shares, np.concatenate([[first], values]),
+                                   np.concatenate([[first_se], errors]))
+    return se[:n], se[n:]
 
 
 def share_figure(args, key, names, number, rigid):
     rows, dilute, susp = common.grid_rows(args.inputs[0])
     coef = common.coefficients(dilute, susp, key, args.fit_phi_max)
+    coef_se = common.coefficient_errors(dilute, susp, key, args.fit_phi_max)
     col = common.colors(coef)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
     for ca, (c1, c2) in sorted(coef.items()):
         phi, y = susp[ca]["phi"].to_numpy(), susp[ca][key].to_numpy()
         first, second, higher = fits.order_shares(phi, y, c1, c2)
-        ax_a.plot(phi, first, "o-", color=col[ca], label=f"Ca = {ca:g}")
-        ax_b.plot(phi, second, "o-", color=col[ca], label=f"Ca = {ca:g}")
-        data += [{"ca": ca, "phi": p, "first_share": f, "second_share": s,
-                  "higher_share": h} for p, f, s, h in zip(phi, first, second, higher)]
+        first_se, second_se = share_errors(phi, y, susp[ca][key + "_se"].to_numpy(), c1,
+                                           coef_se[ca][0], args.fit_phi_max)
+        common.points(ax_a, phi, first, first_se, fmt="o-", color=col[ca],
+                      label=f"Ca = {ca:g}")
+        common.points(ax_b, phi, second, second_se, fmt="o-", color=col[ca],
+                      label=f"Ca = {ca:g}")
+        data += [{"ca": ca, "phi": p, "first_share": f, "first_share_se": fe,
+                  "second_share": s, "second_share_se": se, "higher_share": h,
+                  "higher_share_se": se}
+                 for p, f, fe, s, h, se in zip(phi, first, first_se, second, higher,
+                                               second_se)]
     if rigid:
         phi = np.linspace(0.01, rows["phi"].max(), 40)
         a1, a2 = fits.kd_coefficients(2, args.phi_m)
@@ -38,6 +64,9 @@ def share_figure(args, key, names, number, rigid):
     ax_a.legend()
     caption = (f"Figure {number}. Ratios {names[0]} and {names[1]}; the O(phi^3) share is "
                f"1 - (b). Fitting range 0 <= phi <= {args.fit_phi_max:g}. "
+               "Bars: standard errors propagated from those of the time averages (the "
+               "values and the coefficients; from the integrated autocorrelation time, "
+               "docs/conventions.md); 1 - (b) has the error of (b). "
                + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)
 

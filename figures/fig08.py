@@ -1,5 +1,6 @@
 """Figure 8: ratios of (a) b1 phi and (b) b1 phi + b2 phi^2 to N1 against phi for each Ca;
-1 - (b) is the O(phi^3) share of N1.
+1 - (b) is the O(phi^3) share of N1. Bars: standard errors propagated from those of the
+time averages.
 
 Usage: python figures/fig08.py --out results/figures/fig08 results/grid/table.csv
 """

@@ -1,6 +1,7 @@
 """Figure 10: relative to the dilute limit (superscript sol): (a) <S12> with 1 + (a2/a1) phi,
 (b) <S11 - S22> with 1 + (b2/b1) phi, (c) <S1 - S2>, (d) sin 2<theta_S>, (e) cos 2<theta_S>,
-against phi for each Ca.
+against phi for each Ca. Bars: standard errors of the ratios, from those of the time
+averages of the suspension and of the dilute run.
 
 Usage: python figures/fig10.py --out results/figures/fig10 results/grid/table.csv
 """
@@ -8,6 +9,7 @@ Usage: python figures/fig10.py --out results/figures/fig10 results/grid/table.cs
 import numpy as np
 
 import common
+from analysis.statistics import propagated_standard_error
 
 PANELS = [("S12", r"$\langle S_{12}\rangle/S_{12}^{sol}$", "mu_sp"),
           ("S11_S22", r"$\langle S_{11}-S_{22}\rangle/(S_{11}-S_{22})^{sol}$", "N1"),
@@ -29,18 +31,24 @@ def main(args):
             if ca not in dilute:
                 continue
             phi, y = common.phi_with_dilute(dilute[ca], runs, key)
-            ratio = y / dilute[ca][key]
-            ax.plot(phi, ratio, "o-", color=col[ca], label=f"Ca = {ca:g}")
+            sol, sol_se = dilute[ca][key], dilute[ca][key + "_se"]
+            ratio = y / sol
+            # phi = 0 is the dilute run itself: its ratio is 1 exactly.
+            se = [0.0] + [propagated_standard_error(lambda x: x[0] / x[1], [value, sol],
+                                                    [error, sol_se])
+                          for value, error in zip(runs[key], runs[key + "_se"])]
+            common.points(ax, phi, ratio, se, fmt="o-", color=col[ca], label=f"Ca = {ca:g}")
             if ca in coef:
                 c1, c2 = coef[ca]
                 ax.plot(smooth, 1 + c2 / c1 * smooth, ":", color="0.5")
-            data += [{"panel": letter, "quantity": key, "ca": ca, "phi": p, "ratio": v}
-                     for p, v in zip(phi, ratio)]
+            data += [{"panel": letter, "quantity": key, "ca": ca, "phi": p, "ratio": v,
+                      "ratio_se": e} for p, v, e in zip(phi, ratio, se)]
         ax.set(xlabel=r"$\phi$", ylabel=label, title=f"({letter})")
     axes[0, 0].legend()
     fig.tight_layout()
     caption = ("Figure 10. Stresslet quantities over their dilute-limit values; grey dotted: "
-               "1 + (a2/a1) phi in (a), 1 + (b2/b1) phi in (b). "
+               "1 + (a2/a1) phi in (a), 1 + (b2/b1) phi in (b). " + common.ERROR_BARS
+               + ", of the suspension and the dilute run, propagated to the ratio. "
                + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)
 

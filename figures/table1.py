@@ -1,5 +1,7 @@
 """Table 1: effect of the number of elements N_E on <D> and mu_sp, with the errors of
-eqs. A1 and A2 against the reference, the mean of the cases at the finest mesh.
+eqs. A1 and A2 against the reference, the mean of the cases at the finest mesh. Every
+average carries its standard error ("0.3744 +- 0.0026"); the reference that of the mean
+of the cases, and the CSV also the standard deviation of the cases (appendix A.2).
 
 Usage: python figures/table1.py --out results/figures/table1 results/mesh/table.csv
 Writes STEM.md and STEM.csv.
@@ -10,6 +12,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from analysis.averages import ensemble
+from analysis.statistics import mean_of_runs_standard_error
 from analysis.tables import markdown_table, read_table, with_data, write_table
 
 
@@ -24,12 +28,18 @@ def table_rows(runs):
     cases = (runs["mesh_level"] == finest) & (len(fine) > 1)
     labels = n_e.astype(str) + runs["seed"].map(lambda s: f" (case {int(s)})").where(cases, "")
     rows = pd.DataFrame({"N_E": n_e, "label": labels, "seed": runs["seed"].astype(int),
-                         "D": runs["D"], "eps_D": (runs["D"] - ref_d).abs() / ref_d,  # eq. A1
-                         "mu_sp": runs["mu_sp"],
+                         "D": runs["D"], "D_se": runs["D_se"],
+                         "eps_D": (runs["D"] - ref_d).abs() / ref_d,  # eq. A1
+                         "mu_sp": runs["mu_sp"], "mu_sp_se": runs["mu_sp_se"],
                          "eps_mu": (runs["mu_sp"] - ref_mu).abs() / ref_mu})  # eq. A2
     n_e = 20 * 4 ** int(finest)
+    # The reference: the mean of the independent cases, its standard error
+    # sqrt(sum se_i^2) / n, and the standard deviation of the cases (population form).
     reference = {"N_E": n_e, "label": f"{n_e} (average): reference", "seed": "mean",
-                 "D": ref_d, "mu_sp": ref_mu}
+                 "D": ref_d, "D_se": mean_of_runs_standard_error(fine["D_se"]),
+                 "D_std": ensemble(fine["D"])[1], "mu_sp": ref_mu,
+                 "mu_sp_se": mean_of_runs_standard_error(fine["mu_sp_se"]),
+                 "mu_sp_std": ensemble(fine["mu_sp"])[1]}
     return pd.concat([rows, pd.DataFrame([reference])], ignore_index=True)
 
 
@@ -47,10 +57,16 @@ def main():
     columns = ["label", "D", "eps_D", "mu_sp", "eps_mu"]
     lines = [markdown_table(rows[columns], {"D": ".5f", "eps_D": ".4f", "mu_sp": ".5f",
                                             "eps_mu": ".4f"},
-                            headers=["N_E", "<D>", "eps_D", "mu_sp", "eps_mu"], na_rep="-")]
+                            headers=["N_E", "<D>", "eps_D", "mu_sp", "eps_mu"], na_rep="-",
+                            errors={"D": rows["D_se"], "mu_sp": rows["mu_sp_se"]})]
+    ref = rows.iloc[-1]
     lines += ["", f"Table 1. Ca = {r0['ca']:g}, phi = {r0['phi']:g}, M = {int(r0['capsules'])}, "
               f"averages over gammadot t in [{r0['t_start']:g}, {r0['t_end']:.3g}]; errors "
-              "(eqs. A1, A2) against the mean of the finest-mesh cases."]
+              "(eqs. A1, A2) against the mean of the finest-mesh cases. +-: the standard "
+              "error of the time average, from the integrated autocorrelation time "
+              "(docs/conventions.md); for the reference that of the mean of the cases, "
+              "sqrt(sum se_i^2) / n. Standard deviation of the cases (appendix A.2): "
+              f"<D> {ref['D_std']:.2g}, mu_sp {ref['mu_sp_std']:.2g}."]
     out.with_suffix(".md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 

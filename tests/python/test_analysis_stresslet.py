@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from analysis import averages, stresslet
+from analysis.statistics import standard_error
 
 
 def tensor(s1, s2, theta_deg, s3=0.0):
@@ -82,3 +83,35 @@ def test_ensemble_mean_and_std():
     assert std == pytest.approx(math.sqrt(2 / 3) * 0.01)
     assert averages.ensemble([1.0, 3.0], ddof=1)[1] == pytest.approx(math.sqrt(2))
     assert averages.ensemble([1.0], ddof=1)[1] == 0.0
+
+
+def test_decomposition_standard_errors_follow_the_linearised_series():
+    # theta_S constant at 30 deg: eq. 4.14's right-hand side varies only with S1 - S2, so
+    # its standard error is 1/2 sin 60 deg that of <S1 - S2>; sin 2<theta_S> has none.
+    rng = np.random.default_rng(7)
+    ts = synthetic_series()
+    ts["principal_diff"] = 2.0 + 0.1 * rng.standard_normal(ts["principal_diff"].shape)
+    ts["theta_S_deg"] = np.full_like(ts["principal_diff"], 30.0)
+    avg = averages.run_averages(ts, t_start=0.0)
+    se = avg["decomposition_se"]
+    assert avg["principal_diff_se"] > 0
+    assert se["S12_principal"] == pytest.approx(0.5 * math.sin(math.radians(60))
+                                                * avg["principal_diff_se"])
+    assert se["S11_S22_principal"] == pytest.approx(0.5 * avg["principal_diff_se"])
+    assert se["sin2theta_S"] == pytest.approx(0.0, abs=1e-12)
+    # theta_S varying alone: d sin 2theta / dtheta = 2 cos 2theta per radian.
+    ts["principal_diff"] = np.full_like(ts["principal_diff"], 2.0)
+    ts["theta_S_deg"] = 30.0 + rng.standard_normal(ts["theta_S_deg"].shape)
+    avg = averages.run_averages(ts, t_start=0.0)
+    slope = 2.0 * math.cos(2.0 * math.radians(avg["theta_S_deg"])) * math.pi / 180.0
+    assert avg["decomposition_se"]["sin2theta_S"] == pytest.approx(
+        slope * avg["theta_S_se_deg"])
+
+
+def test_running_standard_error():
+    rng = np.random.default_rng(3)
+    ts = synthetic_series()
+    d = 0.3 + 0.01 * rng.standard_normal(ts["D"].shape)
+    out = averages.running_standard_error(d, ts["time"], 10.0, [10.0, 15.0, 20.0])
+    assert np.isnan(out[0])  # one sample
+    assert out[2] == pytest.approx(standard_error(d, ts["time"], 10.0, 20.0))

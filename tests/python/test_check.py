@@ -76,3 +76,55 @@ def test_committed_expectation_files_are_well_formed():
     assert files
     for f in files:
         assert check.load_expectations(f)
+
+
+@pytest.fixture
+def grid_results(tmp_path):
+    # A run row with the standard error of its time average (analysis.tables).
+    write_table(tmp_path / "grid" / "table.csv",
+                [{"ca": 0.2, "phi": 0.3, "mu_sp": 0.80, "mu_sp_se": 0.01}])
+    return tmp_path
+
+
+def run_grid(tmp_path, results, k=None, **change):
+    e = expectation(file="grid/table.csv", where={"ca": 0.2, "phi": 0.3},
+                    source="reference-run", provenance="a reference run", **change)
+    body = {"expectations": [e]} | ({} if k is None else {"k": k})
+    f = tmp_path / "s.yaml"
+    f.write_text(yaml.safe_dump(body))
+    return check.run_checks([f], results)
+
+
+@pytest.mark.parametrize("value, ok", [(0.8295, True), (0.7705, True),
+                                       (0.8305, False), (0.7695, False)])
+def test_within_k_standard_errors_passes_outside_fails(grid_results, tmp_path, value, ok):
+    # 3 SE = 0.03 is wider than the relative tolerance (0.1 %): it sets the bound.
+    failed, lines = run_grid(tmp_path, grid_results, value=value, rel_tol=0.001,
+                             se_column="mu_sp_se")
+    assert failed == (0 if ok else 1), lines
+    assert "expected" in lines[0] and "3 SE = 0.03" in lines[0]
+
+
+def test_reference_standard_error_adds_in_quadrature_and_k_is_read(grid_results, tmp_path):
+    # SE of the difference: hypot(0.01, 0.02) = 0.02236; 2 SE = 0.0447.
+    assert run_grid(tmp_path, grid_results, k=2, value=0.844, rel_tol=0.001,
+                    se_column="mu_sp_se", value_se=0.02)[0] == 0
+    assert run_grid(tmp_path, grid_results, k=2, value=0.846, rel_tol=0.001,
+                    se_column="mu_sp_se", value_se=0.02)[0] == 1
+    with pytest.raises(check.ExpectationError, match="'k'"):
+        run_grid(tmp_path, grid_results, k=0, value=0.8, rel_tol=0.001)
+
+
+def test_a_wider_tolerance_stays_the_bound(grid_results, tmp_path):
+    # rel_tol 10 % (0.08) is wider than 3 SE (0.03): a value 0.07 off still passes, and a
+    # tight tolerance with no standard error given is not widened.
+    failed, lines = run_grid(tmp_path, grid_results, value=0.87, rel_tol=0.1,
+                             se_column="mu_sp_se")
+    assert failed == 0 and "+- 0.087" in lines[0]
+    assert run_grid(tmp_path, grid_results, value=0.805, rel_tol=0.001)[0] == 1
+
+
+def test_a_missing_standard_error_fails(grid_results, tmp_path):
+    failed, lines = run_grid(tmp_path, grid_results, value=0.8, rel_tol=0.01,
+                             se_column="N1_se")
+    assert failed == 1 and "standard-error column 'N1_se'" in lines[0]

@@ -1,19 +1,24 @@
 """Every figure script on synthetic inputs with known answers: the scripts run, write
 PNG/PDF/CSV, and the CSV holds the values the synthetic data were built from."""
 
+import json
 import math
 import subprocess
 import sys
 from pathlib import Path
 
+import h5py
+import numpy as np
 import pytest
 
 from analysis.rheology import stress_factor
+from analysis.statistics import standard_error
 from analysis.tables import COLUMNS, read_table, select, write_table
 
 ROOT = Path(__file__).resolve().parents[2]
 CAS = [0.1, 0.3]
 PHIS = [0.05, 0.1, 0.2, 0.3]
+SE = 0.01  # every standard error of the synthetic rows
 
 
 def a_coef(ca):
@@ -44,7 +49,8 @@ def synthetic_row(ca, phi):
             "S11_S22": s11_22, "S11_S22_principal": s11_22,
             "sin2theta_S": math.sin(math.radians(2 * theta)),
             "cos2theta_S": math.cos(math.radians(2 * theta)), "intrinsic": int(intrinsic),
-            "run": f"synthetic/ca{ca}_phi{phi}"}
+            "run": f"synthetic/ca{ca}_phi{phi}",
+            **{c: SE for c in COLUMNS if c.endswith(("_se", "_se_deg"))}}
 
 
 @pytest.fixture(scope="module")
@@ -121,3 +127,102 @@ def test_fig10_ratio_is_one_plus_a2_over_a1_phi(grid_table, tmp_path):
 def test_fig03_slope(grid_table, tmp_path):
     rows = run_figure("fig03", tmp_path, grid_table)
     assert select(rows, ca=0.1, phi=0.2)["slope"].iloc[0] == pytest.approx(0.3)
+
+
+def test_figure_data_carry_the_standard_errors(grid_table, tmp_path):
+    rows = run_figure("fig03", tmp_path, grid_table)
+    assert (rows["D_se"] == SE).all()
+    rows = run_figure("fig09", tmp_path, grid_table)
+    assert (rows[["S12_se", "S12_principal_se", "theta_S_se_deg"]] == SE).all().all()
+    rows = run_figure("fig06", tmp_path, grid_table)
+    assert (rows.dropna(subset=["higher_share_se"])["higher_share_se"] > 0).all()
+
+
+def test_fig05_a2_standard_error_propagates_the_fit(grid_table, tmp_path):
+    # a2 = sum(p^2 (y - a1 p)) / sum(p^4) over p = 0.05, 0.1: linear in y and a1.
+    rows = run_figure("fig05", tmp_path, grid_table)
+    p = np.array([0.05, 0.1])
+    s4 = np.sum(p**4)
+    want = SE * math.sqrt(np.sum(p**4) + np.sum(p**3) ** 2) / s4
+    (row,) = select(rows, panel="b", ca=0.1).to_dict("records")
+    assert row["a1_se"] == SE and row["a2_se"] == pytest.approx(want)
+
+
+def test_fig10_ratio_standard_error(grid_table, tmp_path):
+    rows = run_figure("fig10", tmp_path, grid_table)
+    (row,) = select(rows, panel="a", ca=0.3, phi=0.2).to_dict("records")
+    y, sol = synthetic_row(0.3, 0.2)["S12"], synthetic_row(0.3, 0.0)["S12"]
+    want = y / sol * math.hypot(SE / y, SE / sol)
+    assert row["ratio_se"] == pytest.approx(want, rel=1e-3)
+    assert select(rows, panel="a", ca=0.3, phi=0.0)["ratio_se"].iloc[0] == 0.0
+
+
+def test_fig12_mean_of_cases_standard_error_and_spread(tmp_path):
+    rows = []
+    for m in (2, 4):
+        for seed, (d, se) in enumerate([(0.30, 0.03), (0.32, 0.04), (0.34, 0.12)], 1):
+            row = synthetic_row(0.2, 0.3) | {"capsules": m, "seed": seed, "D": d, "D_se": se}
+            rows.append(row)
+    path = tmp_path / "boxsize.csv"
+    write_table(path, rows, COLUMNS)
+    out = run_figure("fig12", tmp_path, path)
+    (row,) = select(out, quantity="D", capsules=4).to_dict("records")
+    assert row["mean"] == pytest.approx(0.32)
+    assert row["std"] == pytest.approx(0.02 * math.sqrt(2 / 3))
+    assert row["se"] == pytest.approx(0.13 / 3)
+
+
+def test_table1_prints_value_and_standard_error(tmp_path):
+    rows = [synthetic_row(0.2, 0.3) | {"mesh_level": 1, "D": 0.36, "D_se": 0.0026}]
+    rows += [synthetic_row(0.2, 0.3) | {"mesh_level": 2, "seed": s, "D": d, "D_se": se}
+             for s, (d, se) in enumerate([(0.37, 0.03), (0.38, 0.04), (0.39, 0.12)], 1)]
+    path = tmp_path / "mesh.csv"
+    write_table(path, rows, COLUMNS)
+    subprocess.run([sys.executable, str(ROOT / "figures" / "table1.py"), "--out",
+                    str(tmp_path / "table1"), str(path)], check=True, capture_output=True)
+    text = (tmp_path / "table1.md").read_text()
+    assert "| 80 | 0.36000 +- 0.0026 |" in text
+    assert "| 320 (average): reference | 0.38000 +- 0.043 | - |" in text
+    assert "standard deviation of the cases" in text.lower()
+    ref = select(read_table(tmp_path / "table1.csv"), seed="mean").iloc[0]
+    assert ref["D_se"] == pytest.approx(0.13 / 3)
+    assert ref["D_std"] == pytest.approx(0.01 * math.sqrt(2 / 3))
+
+
+def write_initial_run(run_dir, seed, d):
+    """A run of 2 capsules at t = 0, 0.5, ..., with D = d (n, 2), S_xy = 1, for figure 11."""
+    run_dir.mkdir(parents=True)
+    n, m = d.shape
+    stresslet = np.zeros((n, m, 3, 3))
+    stresslet[..., 0, 1] = stresslet[..., 1, 0] = 1.0
+    with h5py.File(run_dir / "timeseries.h5", "w") as f:
+        f.create_dataset("time", data=0.5 * np.arange(n))
+        f.create_dataset("step", data=np.arange(n, dtype=np.int64))
+        for key, value in {"D": d, "theta_D_deg": np.full((n, m), 30.0),
+                           "principal_diff": np.ones((n, m)), "theta_S_deg": np.ones((n, m)),
+                           "energy": np.zeros((n, m)), "volume_error": np.zeros((n, m)),
+                           "volume_drift": np.zeros((n, m)), "stresslet": stresslet,
+                           "centroid": np.zeros((n, m, 3))}.items():
+            f.create_dataset("capsule/" + key, data=value)
+    summary = {"parameters": {"ca": 0.2, "phi": 0.3, "capsules": m, "seed": seed,
+                              "mesh_level": 1}, "t_avg_start": 10.0}
+    (run_dir / "summary.json").write_text(json.dumps(summary))
+    return run_dir / "summary.json"
+
+
+def test_fig11_running_standard_error_and_the_cases(tmp_path):
+    rng = np.random.default_rng(11)
+    runs, last_se = [], []
+    for seed in (1, 2, 3):
+        d = 0.3 + 0.01 * rng.standard_normal((61, 2))
+        runs.append(write_initial_run(tmp_path / f"seed{seed}", seed, d))
+        last_se.append(standard_error(d, 0.5 * np.arange(61), 10.0, 30.0))
+    rows = run_figure("fig11", tmp_path, *runs)
+    per_seed = rows[rows["seed"].astype(str) != "mean"]
+    # Every t_e from 10.5 (two samples in the window) carries the running standard error.
+    assert per_seed["D_se"].notna().all() and (per_seed["mu_sp_se"] == 0.0).all()
+    last = per_seed[per_seed["t_e"] == 30.0].sort_values("seed")
+    assert list(last["D_se"]) == pytest.approx(last_se)
+    (final,) = select(rows, seed="mean").dropna(subset=["D"]).to_dict("records")
+    assert final["D_se"] == pytest.approx(math.sqrt(np.sum(np.square(last_se))) / 3)
+    assert final["D_std"] > 0 and final["cases"] == 3

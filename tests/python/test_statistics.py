@@ -4,7 +4,8 @@ against AR(1) series whose autocorrelation time is known in closed form."""
 import numpy as np
 import pytest
 
-from analysis.statistics import (integrated_autocorrelation_time, mean_standard_error,
+from analysis.statistics import (integrated_autocorrelation_time, mean_of_runs_standard_error,
+                                 mean_standard_error, propagated_standard_error,
                                  standard_error)
 
 
@@ -54,3 +55,21 @@ def test_standard_error_of_a_run_series_averages_capsules_first():
     assert standard_error(series, time, 10.0, 20.0) == pytest.approx(expected, rel=1e-12)
     tensor = np.broadcast_to(series[:, :, None, None], (400, 3, 3, 3))
     assert standard_error(tensor, time, 10.0, 20.0).shape == (3, 3)
+
+
+def test_mean_of_independent_runs():
+    # Three runs: sqrt(0.03^2 + 0.04^2 + 0.12^2) / 3 = 0.13 / 3.
+    assert mean_of_runs_standard_error([0.03, 0.04, 0.12]) == pytest.approx(0.13 / 3)
+    assert np.isnan(mean_of_runs_standard_error([0.01, np.nan]))
+
+
+def test_propagation_of_a_ratio_and_a_linear_map():
+    # x / y: relative errors add in quadrature (to first order).
+    se = propagated_standard_error(lambda v: v[0] / v[1], [2.0, 4.0], [0.02, 0.01])
+    assert se == pytest.approx(0.5 * np.hypot(0.01, 0.0025), rel=1e-4)
+    # A linear map A x: sqrt(sum_j (A_ij se_j)^2) exactly, per output.
+    a = np.array([[1.0, 2.0], [0.0, -3.0]])
+    got = propagated_standard_error(lambda v: a @ v, [1.0, 1.0], [0.1, 0.2])
+    assert got == pytest.approx([np.hypot(0.1, 0.4), 0.6])
+    assert np.isnan(propagated_standard_error(lambda v: v.sum(), [1.0, 1.0], [0.1, np.nan]))
+    assert propagated_standard_error(lambda v: v.sum(), [1.0, 1.0], [0.0, 0.0]) == 0.0

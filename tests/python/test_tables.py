@@ -15,6 +15,14 @@ def test_markdown_table_formats_columns_and_missing_values():
                                  "| 320 (average) | 0.10834 | - |"]
 
 
+def test_markdown_table_prints_standard_errors_beside_values():
+    table = pd.DataFrame({"label": ["80", "320"], "D": [0.37441, float("nan")]})
+    text = markdown_table(table, {"D": ".4f"}, errors={"D": [0.002638, 0.001]}, na_rep="-")
+    assert text.splitlines()[2:] == ["| 80 | 0.3744 +- 0.0026 |", "| 320 | - |"]
+    text = markdown_table(table.iloc[:1], {"D": ".4f"}, errors={"D": [float("nan")]})
+    assert text.splitlines()[2] == "| 80 | 0.3744 |"
+
+
 def test_select_numbers_to_1e9_and_text_exactly(tmp_path):
     # A seed column holding numbers and "mean" (Table 1) is read back as text.
     rows = [{"N_E": 80, "seed": 1, "mu_sp": 0.8}, {"N_E": 320, "seed": 1, "mu_sp": 0.81},
