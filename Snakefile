@@ -45,3 +45,13 @@ rule all:
     input:
         "results/dilute/table.md",
         FIGURE_OUTPUTS,
+
+
+# A failed invocation ends with the list of its failed jobs, each with its log and capsim's
+# message (docs/workflow.md, "When a run fails").
+onerror:
+    from analysis.capsim_job import failure_report
+
+    report = failure_report(log)
+    if report:
+        print(report, file=sys.stderr)

@@ -13,6 +13,7 @@ rule dilute_run:
     log:
         "results/logs/dilute/ca{ca}_level{level}.log",
     params:
+        python=PYTHON,
         dir="results/dilute/ca{ca}_level{level}",
         t_end=DILUTE["t_end"],
         t_avg_start=DILUTE["t_avg_start"],
@@ -20,17 +21,15 @@ rule dilute_run:
     resources:
         runtime=config["resources"]["dilute_minutes"],
         mem_mb=config["resources"]["dilute_mem_mb"],
-    # A run that was stopped (killed job, cluster time limit) resumes from its checkpoint.
+    # Started, or resumed from its checkpoint (a killed job, a raised t_end), by
+    # analysis.capsim_job as a suspension run is (runs.smk); a numerical failure (exit 3)
+    # fails the job here: the dilute table has no row for a stopped run.
     shell:
-        """
-        if [ -f {params.dir}/checkpoint.h5 ]; then
-          {input} run -q --resume {params.dir} --set threads={threads} 2> {log}
-        else
-          {input} run -q --set ca={wildcards.ca} --set mesh_level={wildcards.level} \
-            --set t_end={params.t_end} --set t_avg_start={params.t_avg_start} \
-            --set threads={threads} -o {params.dir} 2> {log}
-        fi
-        """
+        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
+        "--log {log} --resume-set threads={threads} --resume-set t_end={params.t_end} -- "
+        "--set ca={wildcards.ca} --set mesh_level={wildcards.level} "
+        "--set t_end={params.t_end} --set t_avg_start={params.t_avg_start} "
+        "--set threads={threads}"
 
 
 rule dilute_table:

@@ -6,8 +6,13 @@
 
 # The solver is an input only to be built first: ancient() keeps a rebuilt binary from
 # re-running finished runs (a physics change means a new results folder, not a rerun).
-# A stopped run (killed job, cluster time limit) resumes from its checkpoint; on resume
-# only t_end, t_avg_start, threads and output.* may change (capsim refuses the rest).
+# analysis.capsim_job starts the run, or resumes it from its checkpoint when the folder
+# holds one (a killed job, a cluster time limit, a raised t_end; on resume only t_end,
+# t_avg_start, threads and output.* may change, capsim refuses the rest). It says in the
+# log which it does, locks the log while capsim runs (a second job for the same run is
+# refused) and on failure names the run, how capsim ended and its message.
+# Exit 3 (contact, numerical failure) with summary.json is a success: summary.json says
+# how the run "ended", its data up to the stop stay in the study and the figures name it.
 rule suspension_run:
     input:
         ancient(CAPSIM),
@@ -16,6 +21,7 @@ rule suspension_run:
     log:
         os.path.join("results", "logs", "{study}", f"{RUN_NAME}.log"),
     params:
+        python=PYTHON,
         # From the wildcards as before: a changed parameter would redo every finished run.
         dir=lambda wc: os.path.join("results", wc.study, RUN_NAME.format(**wc)),
         t_end=lambda wc: config[wc.study]["t_end"],
@@ -27,24 +33,14 @@ rule suspension_run:
         runtime=lambda wc: config["resources"]["suspension_minutes"],
         mem_mb=lambda wc: config["resources"]["suspension_mem_mb"],
     shell:
-        """
-        rc=0
-        if [ -f {params.dir}/checkpoint.h5 ]; then
-          {input} run -q --resume {params.dir} --set threads={threads} \
-            --set t_end={params.t_end} > {log} 2>&1 || rc=$?
-        else
-          {input} run -q --set ca={wildcards.ca} --set phi={wildcards.phi} \
-            --set capsules={wildcards.M} --set mesh_level={wildcards.level} \
-            --set seed={wildcards.seed} --set t_end={params.t_end} \
-            --set t_avg_start={params.t_avg_start} \
-            --set output.snapshot_interval={params.snapshots} {params.options} \
-            --set threads={threads} -o {params.dir} > {log} 2>&1 || rc=$?
-        fi
-        # Exit 3: the run stopped early (contact, numerical failure) and summary.json says
-        # how ("ended"); its data up to the stop stay in the study and the figures name it.
-        if [ "$rc" -eq 3 ] && [ -f {output} ]; then echo "stopped early: see {log}" >&2
-        elif [ "$rc" -ne 0 ]; then exit "$rc"; fi
-        """
+        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
+        "--log {log} --stopped-ok --resume-set threads={threads} "
+        "--resume-set t_end={params.t_end} -- "
+        "--set ca={wildcards.ca} --set phi={wildcards.phi} --set capsules={wildcards.M} "
+        "--set mesh_level={wildcards.level} --set seed={wildcards.seed} "
+        "--set t_end={params.t_end} --set t_avg_start={params.t_avg_start} "
+        "--set output.snapshot_interval={params.snapshots} {params.options} "
+        "--set threads={threads}"
 
 
 rule run_table:

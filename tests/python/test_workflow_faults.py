@@ -1,0 +1,202 @@
+"""The workflow under faults (docs/reliability.md, "The workflow under faults"), on tiny
+configurations written to a temporary working directory:
+
+- one run of a study fails with a parameter capsim rejects: with --keep-going the others
+  finish, a stopped run (capsules in contact) counts as finished, and the failed run is
+  named with capsim's message and its log;
+- a run whose capsim is killed with SIGKILL fails its job; a second snakemake resumes it
+  from its checkpoint instead of starting again;
+- a second snakemake on the same working directory, started while the first runs a job,
+  is refused by snakemake's lock;
+- a second job for a run whose capsim is still running is refused (analysis.capsim_job).
+
+About 30 s on 2 cores. Skipped when build/capsim or snakemake is missing."""
+
+import fcntl
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from analysis.capsim_job import run_job
+from analysis.read_run import read_timeseries
+from analysis.tables import read_table
+
+ROOT = Path(__file__).resolve().parents[2]
+CAPSIM = ROOT / "build" / "capsim"
+SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+
+pytestmark = [
+    pytest.mark.skipif(not CAPSIM.exists(), reason="build/capsim is missing (bash scripts/setup.sh)"),
+    pytest.mark.skipif(not SNAKEMAKE.exists() and not shutil.which("snakemake"),
+                       reason="snakemake is not installed"),
+]
+
+# Mesh study: level 1 and level 2 (seeds 1, 2). method patches with patch level 2 is
+# refused by capsim at mesh level 1 only ("at most mesh_level"): one bad run of three.
+# Grid study at level 2: with stop_distance 0.3 the capsules at phi 0.4 touch at once
+# (a contact stop, exit 3), those at phi 0.05 do not.
+BAD_RUN_CONFIG = {
+    "averages": {"t_start": 0.1},
+    "resources": {"threads": 1},
+    "run_options": {"method": "patches", "ewald.patch_level": 2,
+                    "suspension.stop_distance": 0.3},
+    "dilute": {"ca": [0.2], "mesh_levels": [2], "t_end": 0.3, "t_avg_start": 0.1},
+    "grid": {"ca": [0.2], "phi": [0.05, 0.4], "capsules": 2, "mesh_level": 2,
+             "seeds": [1], "t_end": 0.3},
+    "mesh": {"ca": 0.4, "phi": 0.2, "capsules": 2, "mesh_levels": [1, 2], "seeds": [1, 2],
+             "t_end": 0.3},
+}
+BAD_RUN = "results/mesh/ca0.4_phi0.2_M2_level1_seed1"
+
+# One grid run long enough to be killed midway (a few seconds), checkpointed often.
+LONG_RUN_CONFIG = {
+    "averages": {"t_start": 0.1},
+    "resources": {"threads": 1},
+    "run_options": {"output.checkpoint_interval": 0.2},
+    "grid": {"ca": [0.4], "phi": [0.1], "capsules": 2, "mesh_level": 1, "seeds": [1],
+             "t_end": 20},
+}
+LONG_RUN = "results/grid/ca0.4_phi0.1_M2_level1_seed1"
+
+
+def snakemake_cmd(workdir, *args):
+    exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
+    return [exe, "--cores", "2", "--snakefile", str(ROOT / "Snakefile"), "--directory",
+            str(workdir), *args, "--configfile", str(workdir / "faults.yaml")]
+
+
+def snakemake(workdir, *args):
+    return subprocess.run(snakemake_cmd(workdir, *args), capture_output=True, text=True,
+                          timeout=300)
+
+
+def write_config(workdir, config):
+    workdir.mkdir(parents=True, exist_ok=True)
+    (workdir / "faults.yaml").write_text(yaml.safe_dump(config))
+
+
+def capsim_pids(workdir):
+    """The capsim processes started in `workdir` (snakemake runs its jobs there)."""
+    pids = []
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            argv0 = (proc / "cmdline").read_bytes().split(b"\0")[0].decode()
+            cwd = os.readlink(proc / "cwd")
+        except OSError:
+            continue
+        if argv0 == str(CAPSIM) and Path(cwd) == workdir:
+            pids.append(int(proc.name))
+    return pids
+
+
+def wait_for(condition, what, timeout=60):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if condition():
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def test_keep_going_finishes_the_other_runs_and_names_the_failed_one(tmp_path):
+    write_config(tmp_path, BAD_RUN_CONFIG)
+    proc = snakemake(tmp_path, "--keep-going", "results/mesh/table.csv",
+                     "results/grid/table.csv")
+    out = proc.stdout + proc.stderr
+    assert proc.returncode != 0, out[-3000:]
+    # The other runs finished, and the study without a failed run has its table, with the
+    # run that stopped on contact as a row of its own.
+    for seed in (1, 2):
+        assert (tmp_path / f"results/mesh/ca0.4_phi0.2_M2_level2_seed{seed}/summary.json").exists()
+    assert not (tmp_path / BAD_RUN / "summary.json").exists()
+    assert not (tmp_path / "results/mesh/table.csv").exists()
+    grid = read_table(tmp_path / "results/grid/table.csv")
+    assert sorted(grid["ended"]) == ["contact", "t_end", "t_end"], grid
+    assert "stopped early" in out
+    # The failed run is named with capsim's message and its log, at the end of the output.
+    log = f"results/logs/mesh/{Path(BAD_RUN).name}.log"
+    message = "capsim: error: ewald.patch_level: must be at most mesh_level (1)"
+    failed = f"run {BAD_RUN} FAILED (exit status 2): {message}"
+    tail = proc.stderr[proc.stderr.index("Failed jobs of this snakemake (1)"):]
+    assert failed in tail and f"log: {log}" in tail, tail
+    assert message in (tmp_path / log).read_text()
+
+
+def test_killed_run_resumes_and_a_second_snakemake_is_locked_out(tmp_path):
+    write_config(tmp_path, LONG_RUN_CONFIG)
+    target = f"{LONG_RUN}/summary.json"
+    first = subprocess.Popen(snakemake_cmd(tmp_path, target), stdout=subprocess.PIPE,
+                             stderr=subprocess.STDOUT, text=True)
+    try:
+        # Wait until capsim has written a few checkpoints: each replaces checkpoint.h5
+        # (a new file renamed into place). Only stat: a reader that opens the HDF5 files
+        # while capsim appends can make capsim fail to open them (exit 4).
+        checkpoints = set()
+
+        def checkpointed():
+            try:
+                checkpoints.add((tmp_path / LONG_RUN / "checkpoint.h5").stat().st_ino)
+            except FileNotFoundError:
+                pass
+            return len(checkpoints) >= 3
+        wait_for(checkpointed, "the run's first checkpoints")
+        pids = capsim_pids(tmp_path)
+        assert len(pids) == 1, pids
+        # Paused, so that it is still running whatever the load: the second snakemake
+        # takes seconds to start.
+        os.kill(pids[0], signal.SIGSTOP)
+
+        # A second snakemake for the same run, while the first runs it: refused.
+        second = snakemake(tmp_path, target)
+        assert second.returncode != 0
+        assert "LockException" in second.stderr, second.stderr[-2000:]
+        assert "Directory cannot be locked" in second.stderr
+        assert "--unlock" in second.stderr
+
+        # SIGKILL to capsim (paused or not): the job fails, names the signal, and keeps
+        # the checkpoint.
+        os.kill(pids[0], signal.SIGKILL)
+        out, _ = first.communicate(timeout=120)
+    finally:
+        if first.poll() is None:
+            first.kill()
+            first.wait()
+    assert first.returncode != 0
+    assert f"run {LONG_RUN} FAILED (killed by signal 9 (SIGKILL))" in out, out[-3000:]
+    assert "its checkpoint is kept: the next snakemake resumes it" in out
+    assert (tmp_path / LONG_RUN / "checkpoint.h5").exists()
+    assert not (tmp_path / LONG_RUN / "summary.json").exists()
+    rows_at_kill = len(read_timeseries(tmp_path / LONG_RUN)["time"])
+
+    # The same command again resumes the run from its checkpoint and finishes it.
+    again = snakemake(tmp_path, target)
+    assert again.returncode == 0, (again.stdout + again.stderr)[-3000:]
+    summary = json.loads((tmp_path / LONG_RUN / "summary.json").read_text())
+    assert summary["resumed"] is True and summary["ended"] == "t_end"
+    assert summary["t_end"] >= 20
+    assert len(read_timeseries(tmp_path / LONG_RUN)["time"]) > rows_at_kill
+    log = (tmp_path / f"results/logs/grid/{Path(LONG_RUN).name}.log").read_text()
+    assert "resuming from its checkpoint" in log and f"--resume {LONG_RUN}" in log
+
+
+def test_second_job_for_a_running_run_is_refused(tmp_path, capsys):
+    # What a second snakemake started after --unlock would do while the first's capsim
+    # still runs: the log is locked, so the job refuses before touching the folder.
+    log = tmp_path / "run.log"
+    with open(log, "ab") as held:
+        fcntl.flock(held.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        status = run_job(str(CAPSIM), str(tmp_path / "run"), str(log),
+                         ["--set", "t_end=0.1"], [])
+    assert status == 1
+    assert "is already running" in capsys.readouterr().err
+    assert not (tmp_path / "run").exists() and log.read_text() == ""
