@@ -1,9 +1,13 @@
 #include "io/timeseries_file.hpp"
 
 #include "io/hdf5_util.hpp"
+#include "io/kill_point.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -98,6 +102,8 @@ h5::Handle create_extendible(hid_t loc, const std::string& name, const h5::Dims&
                                "cannot create a dataspace");
   h5::Handle plist = h5::check(H5Pcreate(H5P_DATASET_CREATE), "cannot create a plist");
   h5::check_status(H5Pset_chunk(plist.get(), rank, chunk.data()), "cannot set chunks");
+  // A checksum per chunk: damaged rows are found when a resume reads the file back.
+  h5::check_status(H5Pset_fletcher32(plist.get()), "cannot set checksums");
   h5::Handle dataset =
       h5::check(H5Dcreate2(loc, name.c_str(), h5::Type<T>::file(), space.get(),
                            H5P_DEFAULT, plist.get(), H5P_DEFAULT),
@@ -161,19 +167,34 @@ std::vector<T> read_rows(hid_t file, const std::string& name, hsize_t rows,
 } // namespace
 
 struct TimeseriesWriter::Impl {
-  std::string path;
+  std::string path, tmp; // the committed file and the copy being written
   int num_capsules = 0;
   long rows = 0;
+  bool committed = false;
   h5::Handle file; // declared first, so closed after the datasets
   h5::Handle time, step;
   std::vector<h5::Handle> columns; // parallel to capsule_columns()
 
+  ~Impl();
   void create();
   void reopen(long keep_rows);
+  void close();
 };
 
+// Only an uncommitted copy is left: close it and remove it, so that `path` stays the
+// file of record.
+TimeseriesWriter::Impl::~Impl() {
+  if (committed || tmp.empty())
+    return;
+  columns.clear();
+  time.reset();
+  step.reset();
+  file.reset();
+  std::remove(tmp.c_str());
+}
+
 void TimeseriesWriter::Impl::create() {
-  file = h5::create_file(path);
+  file = h5::create_file(tmp);
   h5::write_attribute<std::int32_t>(file.get(), "num_capsules", num_capsules);
   time = create_extendible<double>(file.get(), "/time", {}, "gammadot t");
   step = create_extendible<std::int64_t>(file.get(), "/step", {}, "1");
@@ -189,7 +210,11 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw std::runtime_error("the file does not exist");
-  file = h5::open_file(path, H5F_ACC_RDWR);
+  std::filesystem::copy_file(path, tmp, std::filesystem::copy_options::overwrite_existing,
+                             ec);
+  if (ec)
+    throw std::runtime_error("cannot copy it to " + tmp + ": " + ec.message());
+  file = h5::open_file(tmp, H5F_ACC_RDWR);
   const int stored = h5::read_attribute<std::int32_t>(file.get(), "num_capsules");
   if (stored != num_capsules)
     throw std::runtime_error("it holds " + std::to_string(stored) +
@@ -212,6 +237,15 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
   rows = keep_rows;
 }
 
+// Datasets first: the file is written out when its last object closes.
+void TimeseriesWriter::Impl::close() {
+  for (h5::Handle& column : columns)
+    column.close("a dataset");
+  time.close("/time");
+  step.close("/step");
+  file.close("the file");
+}
+
 TimeseriesWriter::TimeseriesWriter(const std::string& path, int num_capsules,
                                    long keep_rows)
     : impl_(std::make_unique<Impl>()) {
@@ -223,12 +257,14 @@ TimeseriesWriter::TimeseriesWriter(const std::string& path, int num_capsules,
   if (num_capsules < 1)
     throw std::runtime_error(action + ": num_capsules must be >= 1, got " +
                              std::to_string(num_capsules));
+  impl_->tmp = path + ".tmp";
   try {
     if (keep_rows >= 0)
       impl_->reopen(keep_rows);
     else
       impl_->create();
-  } catch (const std::runtime_error& e) {
+  } catch (const std::exception& e) { // also bad_alloc from a damaged file
+    impl_.reset();                    // removes the copy
     throw std::runtime_error(action + ": " + e.what());
   }
 }
@@ -256,14 +292,31 @@ void TimeseriesWriter::append(const Sample& sample) {
     // /time goes last: a row counts as written once /time holds it.
     write_row(s.time.get(), "/time", row, &sample.time);
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error("cannot append to timeseries " + s.path + ": " + e.what());
+    throw std::runtime_error("cannot append to timeseries " + s.path + " (in " + s.tmp +
+                             "): " + e.what());
   }
   ++s.rows;
 }
 
-void TimeseriesWriter::flush() {
-  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0)
-    throw std::runtime_error("cannot flush timeseries " + impl_->path);
+void TimeseriesWriter::commit() {
+  Impl& s = *impl_;
+  kill_point(KillPoint::series_written);
+  try {
+    s.close();
+  } catch (const std::runtime_error& e) {
+    std::remove(s.tmp.c_str());
+    throw std::runtime_error("cannot write timeseries " + s.path + " (in " + s.tmp +
+                             "): " + e.what());
+  }
+  // rename() replaces `path` in one step: readers see the old or the new file.
+  if (std::rename(s.tmp.c_str(), s.path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(s.tmp.c_str());
+    throw std::runtime_error("cannot write timeseries " + s.path + ": renaming " + s.tmp +
+                             " failed: " + reason);
+  }
+  s.committed = true;
+  kill_point(KillPoint::series_renamed);
 }
 
 long TimeseriesWriter::rows() const {
