@@ -239,8 +239,8 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
 
 // Datasets first: the file is written out when its last object closes.
 void TimeseriesWriter::Impl::close() {
-  for (h5::Handle& column : columns)
-    column.close("a dataset");
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    columns[k].close("dataset " + column_path(capsule_columns()[k]));
   time.close("/time");
   step.close("/step");
   file.close("the file");
