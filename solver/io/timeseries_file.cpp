@@ -131,6 +131,26 @@ void write_row(hid_t dataset, const std::string& name, hsize_t row, const T* dat
                    "cannot write a row of " + name);
 }
 
+// std::filesystem::copy_file reports a full disk as an I/O error; this says which.
+void copy_file(const std::string& from, const std::string& to) {
+  std::FILE* in = std::fopen(from.c_str(), "rb");
+  std::FILE* out = in ? std::fopen(to.c_str(), "wb") : nullptr;
+  int error = out ? 0 : errno;
+  std::vector<char> buffer(1 << 16);
+  std::size_t n = buffer.size();
+  while (!error && n == buffer.size()) {
+    n = std::fread(buffer.data(), 1, buffer.size(), in);
+    if (std::fwrite(buffer.data(), 1, n, out) != n || std::ferror(in))
+      error = errno ? errno : EIO;
+  }
+  if (out && std::fclose(out) != 0 && !error)
+    error = errno;
+  if (in)
+    std::fclose(in);
+  if (error)
+    throw std::runtime_error("cannot copy it to " + to + ": " + std::strerror(error));
+}
+
 // Opens a dataset of an existing file and cuts it to its first keep_rows rows.
 bool exists(hid_t file, const std::string& name) {
   return H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0;
@@ -210,10 +230,7 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw std::runtime_error("the file does not exist");
-  std::filesystem::copy_file(path, tmp, std::filesystem::copy_options::overwrite_existing,
-                             ec);
-  if (ec)
-    throw std::runtime_error("cannot copy it to " + tmp + ": " + ec.message());
+  copy_file(path, tmp);
   file = h5::open_file(tmp, H5F_ACC_RDWR);
   const int stored = h5::read_attribute<std::int32_t>(file.get(), "num_capsules");
   if (stored != num_capsules)
@@ -251,7 +268,7 @@ TimeseriesWriter::TimeseriesWriter(const std::string& path, int num_capsules,
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   impl_->num_capsules = num_capsules;
-  const std::string action = keep_rows >= 0 ? "cannot resume timeseries " + path +
+  const std::string action = keep_rows >= 0 ? "cannot update timeseries " + path +
                                                   " at row " + std::to_string(keep_rows)
                                             : "cannot create timeseries " + path;
   if (num_capsules < 1)
@@ -323,9 +340,19 @@ long TimeseriesWriter::rows() const {
   return impl_->rows;
 }
 
+// Reads the header of every object in the file, so that a damaged header (its checksum)
+// is found even where the rows are not (units attributes, for instance).
+static void visit_every_header(hid_t file) {
+  auto nothing = [](hid_t, const char*, const H5O_info_t*, void*) -> herr_t { return 0; };
+  h5::check_status(
+      H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, nothing, nullptr, H5O_INFO_ALL),
+      "cannot read every object header");
+}
+
 std::vector<Sample> read_timeseries(const std::string& path) {
   return h5::read_or_explain("timeseries", path, [&] {
     h5::Handle file = h5::open_file(path, H5F_ACC_RDONLY);
+    visit_every_header(file.get());
     const int m = h5::read_attribute<std::int32_t>(file.get(), "num_capsules");
     if (m < 1)
       throw std::runtime_error("num_capsules is " + std::to_string(m));

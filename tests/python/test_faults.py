@@ -71,8 +71,8 @@ def file_size_limit(size):
 
 def test_a_full_disk_stops_with_one_message_and_the_run_resumes(whole, tmp_path):
     run = tmp_path / "run"
-    # The time series (about 63 kB) outgrows 70 kB when its second chunk is allocated.
-    r = capsim("run", "-q", *ARGS, "-o", str(run), preexec_fn=file_size_limit(70_000))
+    # The time series outgrows 45 kB when its second chunk of rows is allocated.
+    r = capsim("run", "-q", *ARGS, "-o", str(run), preexec_fn=file_size_limit(45_000))
     assert r.returncode == 4
     message = r.stderr.strip()
     assert message.count("\n") == 0 and "HDF5-DIAG" not in message
