@@ -127,7 +127,10 @@ def test_a_read_only_folder_changes_nothing_and_the_run_resumes(whole):
         for p in [run, *run.rglob("*")]:
             p.chmod(0o555 if p.is_dir() else 0o444)
         before = files_of(run)
-        r = capsim("run", "-q", "--resume", str(run), preexec_fn=as_unprivileged_user)
+        # A copy of capsim the unprivileged user can reach wherever the checkout lives.
+        exe = shutil.copy2(CAPSIM, base / "capsim")
+        r = subprocess.run([exe, "run", "-q", "--resume", str(run)], capture_output=True,
+                           text=True, preexec_fn=as_unprivileged_user)
         assert r.returncode == 4
         assert "Permission denied" in r.stderr and "timeseries.h5" in r.stderr
         assert files_of(run) == before
