@@ -1,6 +1,7 @@
 #include "io/checkpoint_file.hpp"
 
 #include "io/hdf5_util.hpp"
+#include "io/kill_point.hpp"
 
 #include <cerrno>
 #include <cstdint>
@@ -48,6 +49,7 @@ void write_contents(const std::string& file_path, const Checkpoint& c) {
     xyz.insert(xyz.end(), {p.x, p.y, p.z});
   h5::write_dataset(f, "/positions", {c.positions.size(), 3}, xyz.data());
   h5::write_string_dataset(f, "/options_yaml", c.options_yaml);
+  kill_point(KillPoint::checkpoint_written);
   // Only a successful close means the data reached the file; a failed one must not be
   // renamed over the last good checkpoint.
   file.close("the file");
@@ -64,6 +66,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
     std::remove(tmp.c_str());
     throw std::runtime_error("cannot write checkpoint " + path + ": " + e.what());
   }
+  kill_point(KillPoint::checkpoint_closed);
   // rename() replaces `path` in one step: a reader sees the old or the new file, never
   // a partly written one.
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {

@@ -4,6 +4,7 @@
 // std::runtime_error saying only what failed ("dataset /positions missing"); the callers
 // add the file's path and kind, which the helpers do not know.
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <hdf5.h>
 #include <stdexcept>
@@ -12,6 +13,43 @@
 #include <vector>
 
 namespace capsim::h5 {
+
+// The descriptions on HDF5's error stack after a failed call, innermost first, joined by
+// newlines (HDF5 does not print them: silence_errors()).
+inline std::string error_stack() {
+  std::string text;
+  auto visit = [](unsigned, const H5E_error2_t* e, void* out) -> herr_t {
+    if (e->desc)
+      *static_cast<std::string*>(out) += std::string(e->desc) + "\n";
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, visit, &text);
+  return text;
+}
+
+// The operating system's reason for the HDF5 call that just failed ("No space left on
+// device"): HDF5 keeps errno only as text in its error stack, "..., errno = 28, error
+// message = 'No space left on device', ...". Empty when no system call failed.
+inline std::string system_reason() {
+  static const std::string key = "error message = '";
+  const std::string stack = error_stack();
+  const std::size_t start = stack.find(key);
+  if (start == std::string::npos)
+    return "";
+  const std::size_t from = start + key.size();
+  return stack.substr(from, stack.find('\'', from) - from);
+}
+
+// `what` failed, with the reason when HDF5 knows one: the system's (a full disk), or a
+// checksum that does not match (damaged data).
+inline std::string failure(const std::string& what) {
+  const std::string reason = system_reason();
+  if (!reason.empty())
+    return what + ": " + reason;
+  if (error_stack().find("checksum") != std::string::npos)
+    return what + ": a checksum does not match (the data are damaged)";
+  return what;
+}
 
 // Owns one HDF5 identifier. H5Idec_ref closes any kind of object (file, dataset, ...)
 // once its count reaches zero, so one class serves them all.
@@ -41,7 +79,7 @@ public:
   void close(const std::string& what) {
     const hid_t id = std::exchange(id_, -1);
     if (id >= 0 && H5Idec_ref(id) < 0)
-      throw std::runtime_error("cannot close " + what);
+      throw std::runtime_error(failure("cannot close " + what));
   }
 
 private:
@@ -50,18 +88,22 @@ private:
 
 inline Handle check(hid_t id, const std::string& what) {
   if (id < 0)
-    throw std::runtime_error(what);
+    throw std::runtime_error(failure(what));
   return Handle(id);
 }
 
 inline void check_status(herr_t status, const std::string& what) {
   if (status < 0)
-    throw std::runtime_error(what);
+    throw std::runtime_error(failure(what));
 }
 
 // HDF5 prints its whole error stack to stderr by default; users should see only our
-// message, so every entry point that opens or creates a file turns that off.
+// message, so every entry point that opens or creates a file turns that off. It also
+// keeps HDF5 from closing, at exit, objects whose close already failed (a full disk):
+// HDF5 1.10 crashes there. Every file is closed explicitly, so nothing is lost; this
+// takes effect only before the library's first call, which this is.
 inline void silence_errors() {
+  H5dont_atexit();
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
 }
 
@@ -96,16 +138,24 @@ inline hsize_t element_count(const Dims& dims) {
   return n;
 }
 
+// Files use the HDF5 1.10 format, whose headers and chunk indexes carry checksums (those
+// of 1.8 leave the chunk index unchecked), so a damaged file is found when read; readers
+// of HDF5 1.10 and later (h5py, ParaView) open it.
 inline Handle create_file(const std::string& path) {
   silence_errors();
-  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  Handle access = check(H5Pcreate(H5P_FILE_ACCESS), "cannot create a file access list");
+  check_status(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V110, H5F_LIBVER_V110),
+               "cannot choose the file format");
+  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get());
   if (id >= 0)
     return Handle(id);
-  // HDF5 does not say why; the usual reasons are these two.
+  const std::string reason = system_reason();
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
     throw std::runtime_error("folder " + folder.string() + " does not exist");
+  if (!reason.empty())
+    throw std::runtime_error("cannot create the file: " + reason);
   throw std::runtime_error("cannot create the file (folder not writable, or file open)");
 }
 
@@ -114,8 +164,14 @@ inline Handle open_file(const std::string& path, unsigned flags) {
   silence_errors();
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw std::runtime_error("not an HDF5 file");
-  return check(H5Fopen(path.c_str(), flags, H5P_DEFAULT),
-               "the HDF5 file cannot be opened");
+  const hid_t id = H5Fopen(path.c_str(), flags, H5P_DEFAULT);
+  if (id >= 0)
+    return Handle(id);
+  const std::string stack = error_stack(), reason = system_reason();
+  if (stack.find("truncated file") != std::string::npos)
+    throw std::runtime_error("the file is truncated (shorter than its HDF5 header says)");
+  throw std::runtime_error("the HDF5 file cannot be opened" +
+                           (reason.empty() ? std::string(" (damaged)") : ": " + reason));
 }
 
 // Runs `read` on an existing file; any failure comes back as

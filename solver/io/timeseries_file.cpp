@@ -1,9 +1,13 @@
 #include "io/timeseries_file.hpp"
 
 #include "io/hdf5_util.hpp"
+#include "io/kill_point.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -98,6 +102,8 @@ h5::Handle create_extendible(hid_t loc, const std::string& name, const h5::Dims&
                                "cannot create a dataspace");
   h5::Handle plist = h5::check(H5Pcreate(H5P_DATASET_CREATE), "cannot create a plist");
   h5::check_status(H5Pset_chunk(plist.get(), rank, chunk.data()), "cannot set chunks");
+  // A checksum per chunk: damaged rows are found when a resume reads the file back.
+  h5::check_status(H5Pset_fletcher32(plist.get()), "cannot set checksums");
   h5::Handle dataset =
       h5::check(H5Dcreate2(loc, name.c_str(), h5::Type<T>::file(), space.get(),
                            H5P_DEFAULT, plist.get(), H5P_DEFAULT),
@@ -123,6 +129,26 @@ void write_row(hid_t dataset, const std::string& name, hsize_t row, const T* dat
   h5::check_status(H5Dwrite(dataset, h5::Type<T>::memory(), memory_space.get(),
                             file_space.get(), H5P_DEFAULT, data),
                    "cannot write a row of " + name);
+}
+
+// std::filesystem::copy_file reports a full disk as an I/O error; this says which.
+void copy_file(const std::string& from, const std::string& to) {
+  std::FILE* in = std::fopen(from.c_str(), "rb");
+  std::FILE* out = in ? std::fopen(to.c_str(), "wb") : nullptr;
+  int error = out ? 0 : errno;
+  std::vector<char> buffer(1 << 16);
+  std::size_t n = buffer.size();
+  while (!error && n == buffer.size()) {
+    n = std::fread(buffer.data(), 1, buffer.size(), in);
+    if (std::fwrite(buffer.data(), 1, n, out) != n || std::ferror(in))
+      error = errno ? errno : EIO;
+  }
+  if (out && std::fclose(out) != 0 && !error)
+    error = errno;
+  if (in)
+    std::fclose(in);
+  if (error)
+    throw std::runtime_error("cannot copy it to " + to + ": " + std::strerror(error));
 }
 
 // Opens a dataset of an existing file and cuts it to its first keep_rows rows.
@@ -161,19 +187,34 @@ std::vector<T> read_rows(hid_t file, const std::string& name, hsize_t rows,
 } // namespace
 
 struct TimeseriesWriter::Impl {
-  std::string path;
+  std::string path, tmp; // the committed file and the copy being written
   int num_capsules = 0;
   long rows = 0;
+  bool committed = false;
   h5::Handle file; // declared first, so closed after the datasets
   h5::Handle time, step;
   std::vector<h5::Handle> columns; // parallel to capsule_columns()
 
+  ~Impl();
   void create();
   void reopen(long keep_rows);
+  void close();
 };
 
+// Only an uncommitted copy is left: close it and remove it, so that `path` stays the
+// file of record.
+TimeseriesWriter::Impl::~Impl() {
+  if (committed || tmp.empty())
+    return;
+  columns.clear();
+  time.reset();
+  step.reset();
+  file.reset();
+  std::remove(tmp.c_str());
+}
+
 void TimeseriesWriter::Impl::create() {
-  file = h5::create_file(path);
+  file = h5::create_file(tmp);
   h5::write_attribute<std::int32_t>(file.get(), "num_capsules", num_capsules);
   time = create_extendible<double>(file.get(), "/time", {}, "gammadot t");
   step = create_extendible<std::int64_t>(file.get(), "/step", {}, "1");
@@ -189,7 +230,8 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw std::runtime_error("the file does not exist");
-  file = h5::open_file(path, H5F_ACC_RDWR);
+  copy_file(path, tmp);
+  file = h5::open_file(tmp, H5F_ACC_RDWR);
   const int stored = h5::read_attribute<std::int32_t>(file.get(), "num_capsules");
   if (stored != num_capsules)
     throw std::runtime_error("it holds " + std::to_string(stored) +
@@ -212,23 +254,34 @@ void TimeseriesWriter::Impl::reopen(long keep_rows) {
   rows = keep_rows;
 }
 
+// Datasets first: the file is written out when its last object closes.
+void TimeseriesWriter::Impl::close() {
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    columns[k].close("dataset " + column_path(capsule_columns()[k]));
+  time.close("/time");
+  step.close("/step");
+  file.close("the file");
+}
+
 TimeseriesWriter::TimeseriesWriter(const std::string& path, int num_capsules,
                                    long keep_rows)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   impl_->num_capsules = num_capsules;
-  const std::string action = keep_rows >= 0 ? "cannot resume timeseries " + path +
+  const std::string action = keep_rows >= 0 ? "cannot update timeseries " + path +
                                                   " at row " + std::to_string(keep_rows)
                                             : "cannot create timeseries " + path;
   if (num_capsules < 1)
     throw std::runtime_error(action + ": num_capsules must be >= 1, got " +
                              std::to_string(num_capsules));
+  impl_->tmp = path + ".tmp";
   try {
     if (keep_rows >= 0)
       impl_->reopen(keep_rows);
     else
       impl_->create();
-  } catch (const std::runtime_error& e) {
+  } catch (const std::exception& e) { // also bad_alloc from a damaged file
+    impl_.reset();                    // removes the copy
     throw std::runtime_error(action + ": " + e.what());
   }
 }
@@ -256,23 +309,50 @@ void TimeseriesWriter::append(const Sample& sample) {
     // /time goes last: a row counts as written once /time holds it.
     write_row(s.time.get(), "/time", row, &sample.time);
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error("cannot append to timeseries " + s.path + ": " + e.what());
+    throw std::runtime_error("cannot append to timeseries " + s.path + " (in " + s.tmp +
+                             "): " + e.what());
   }
   ++s.rows;
 }
 
-void TimeseriesWriter::flush() {
-  if (H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL) < 0)
-    throw std::runtime_error("cannot flush timeseries " + impl_->path);
+void TimeseriesWriter::commit() {
+  Impl& s = *impl_;
+  kill_point(KillPoint::series_written);
+  try {
+    s.close();
+  } catch (const std::runtime_error& e) {
+    std::remove(s.tmp.c_str());
+    throw std::runtime_error("cannot write timeseries " + s.path + " (in " + s.tmp +
+                             "): " + e.what());
+  }
+  // rename() replaces `path` in one step: readers see the old or the new file.
+  if (std::rename(s.tmp.c_str(), s.path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(s.tmp.c_str());
+    throw std::runtime_error("cannot write timeseries " + s.path + ": renaming " + s.tmp +
+                             " failed: " + reason);
+  }
+  s.committed = true;
+  kill_point(KillPoint::series_renamed);
 }
 
 long TimeseriesWriter::rows() const {
   return impl_->rows;
 }
 
+// Reads the header of every object in the file, so that a damaged header (its checksum)
+// is found even where the rows are not (units attributes, for instance).
+static void visit_every_header(hid_t file) {
+  auto nothing = [](hid_t, const char*, const H5O_info_t*, void*) -> herr_t { return 0; };
+  h5::check_status(
+      H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, nothing, nullptr, H5O_INFO_ALL),
+      "cannot read every object header");
+}
+
 std::vector<Sample> read_timeseries(const std::string& path) {
   return h5::read_or_explain("timeseries", path, [&] {
     h5::Handle file = h5::open_file(path, H5F_ACC_RDONLY);
+    visit_every_header(file.get());
     const int m = h5::read_attribute<std::int32_t>(file.get(), "num_capsules");
     if (m < 1)
       throw std::runtime_error("num_capsules is " + std::to_string(m));

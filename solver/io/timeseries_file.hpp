@@ -13,18 +13,22 @@
 
 namespace capsim {
 
+// Writes go to a copy, `path`.tmp, which commit() closes and renames over `path`: a run
+// killed, or a disk that fills up, while rows are written leaves the last committed file
+// as it was. Each commit copies the file once (a few MB for a long suspension run).
 class TimeseriesWriter {
 public:
-  // Creates `path`, or, when keep_rows >= 0, reopens it and truncates every dataset to
-  // its first keep_rows rows (resume from a checkpoint). Throws std::runtime_error with
-  // the path in the message on failure.
+  // A new, empty file, or, when keep_rows >= 0, a copy of `path` with every dataset cut
+  // to its first keep_rows rows (resume from a checkpoint). Throws std::runtime_error
+  // with the path in the message on failure.
   TimeseriesWriter(const std::string& path, int num_capsules, long keep_rows = -1);
+  // Without commit() (an error), removes the copy; `path` is unchanged.
   ~TimeseriesWriter();
   TimeseriesWriter(const TimeseriesWriter&) = delete;
   TimeseriesWriter& operator=(const TimeseriesWriter&) = delete;
 
   void append(const Sample& sample);
-  void flush(); // H5Fflush: rows appended so far are on disk
+  void commit(); // closes the copy, checking that it reached the disk, and renames it
   long rows() const;
 
 private:

@@ -106,7 +106,9 @@ public:
   }
 
   void start_fresh();
+  void check_series(const Checkpoint& c) const;
   void start_from(const Checkpoint& c);
+  std::string resume_hint() const;
   void run();
   // summary.json; `ended` is "t_end" or the SimulationError kind that stopped the run.
   void write_summary(double wall_seconds, bool resumed,
@@ -146,6 +148,7 @@ private:
   double first_time_ = 0; // time() when this session's stepping began, for the ETA
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
   long step_ = 0, rows_written_ = 0;
+  double checkpoint_time_ = -1; // time() of the checkpoint on disk; < 0 before the first
   std::vector<Vec3> x_;
   std::vector<double> v0_, drift_;
   std::vector<Sample> pending_; // samples taken since the last checkpoint
@@ -173,11 +176,43 @@ void RunLoop::start_fresh() {
     for (const auto& p : mesh_.positions)
       x_.push_back(c + Vec3{s * p.x, p.y / std::sqrt(s), p.z / std::sqrt(s)});
   write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
-  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules); // an empty file
+  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules).commit(); // an empty file
   take_sample();
   if (snapshot_every_ > 0)
     save_snapshot();
   save_checkpoint();
+}
+
+// A damaged or short time series stops a resume before any file is changed: reading
+// every row back finds a truncated file, broken structure and, through the chunks'
+// checksums, damaged values.
+void RunLoop::check_series(const Checkpoint& c) const {
+  const std::string path = dir_ + "/timeseries.h5";
+  try {
+    const long rows = long(read_timeseries(path).size());
+    if (rows < c.samples_written)
+      throw std::runtime_error("timeseries " + path + " holds " + std::to_string(rows) +
+                               " rows, the checkpoint needs " +
+                               std::to_string(c.samples_written));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(
+        std::string(e.what()) +
+        ". Nothing was changed; the run cannot continue without the rows before its "
+        "checkpoint: restore timeseries.h5 from a copy, or start the run again in a "
+        "new folder");
+  }
+}
+
+// What to do after a failed write: where the run can continue from.
+std::string RunLoop::resume_hint() const {
+  if (checkpoint_time_ < 0)
+    return ". No checkpoint was written yet: free space (or make the folder writable), "
+           "then start the run again with the same command";
+  char t[32];
+  std::snprintf(t, sizeof t, "%.6g", checkpoint_time_);
+  return ". The last good checkpoint (gammadot*t = " + std::string(t) + ") is kept in " +
+         dir_ + "/checkpoint.h5: free space (or make the folder writable), then " +
+         "continue with `capsim run --resume " + dir_ + "`";
 }
 
 void RunLoop::start_from(const Checkpoint& c) {
@@ -193,8 +228,9 @@ void RunLoop::start_from(const Checkpoint& c) {
   if (adaptive() && c.next_dt > 0)
     dt_ = c.next_dt;
   rows_written_ = c.samples_written;
+  checkpoint_time_ = time();
   // Rows written after the checkpoint (a run killed between the two) are dropped.
-  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
+  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules, rows_written_).commit();
   snapshots_ = list_snapshots(dir_, c.snapshots_written);
   write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
 }
@@ -336,6 +372,7 @@ void RunLoop::flush_samples() {
     TimeseriesWriter series(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
     for (const auto& s : pending_)
       series.append(s);
+    series.commit();
   }
   rows_written_ += long(pending_.size());
   pending_.clear();
@@ -356,6 +393,7 @@ void RunLoop::save_checkpoint() {
   c.positions = x_;
   c.options_yaml = to_yaml(o_);
   write_checkpoint(dir_ + "/checkpoint.h5", c);
+  checkpoint_time_ = c.time;
 }
 
 void RunLoop::save_snapshot() {
@@ -460,6 +498,25 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
   return parse_run_options(c.options_yaml, overrides, "checkpoint in " + dir);
 }
 
+// The run after its set-up, to summary.json; a numerical stop records how it ended.
+void run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begin,
+                const Checkpoint& checkpoint) {
+  if (request.resume)
+    loop.start_from(checkpoint);
+  else
+    loop.start_fresh();
+  auto seconds = [&] {
+    return std::chrono::duration<double>(Clock::now() - begin).count();
+  };
+  try {
+    loop.run();
+  } catch (const SimulationError& e) {
+    loop.write_summary(seconds(), request.resume, e.kind, e.what());
+    throw;
+  }
+  loop.write_summary(seconds(), request.resume);
+}
+
 } // namespace
 
 void run_simulation(const RunRequest& request) {
@@ -475,22 +532,21 @@ void run_simulation(const RunRequest& request) {
   // Built first: a backend that cannot run the options stops the run before anything
   // is written.
   RunLoop loop(o, request.outdir, request.quiet);
-  if (request.resume) {
-    loop.start_from(checkpoint);
-  } else {
+  if (request.resume)
+    loop.check_series(checkpoint);
+  else
     prepare_fresh_outdir(request.outdir);
-    loop.start_fresh();
-  }
-  auto seconds = [&] {
-    return std::chrono::duration<double>(Clock::now() - begin).count();
-  };
+  // A failed write (a full disk, a read-only folder) says which file and what failed,
+  // then where the run can continue from.
   try {
-    loop.run();
-  } catch (const SimulationError& e) {
-    loop.write_summary(seconds(), request.resume, e.kind, e.what());
+    run_to_end(loop, request, begin, checkpoint);
+  } catch (const ConfigError&) {
     throw;
+  } catch (const SimulationError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(e.what() + loop.resume_hint());
   }
-  loop.write_summary(seconds(), request.resume);
 }
 
 } // namespace capsim

@@ -12,7 +12,9 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <signal.h>
 #include <string>
+#include <sys/resource.h>
 
 namespace fs = std::filesystem;
 using namespace capsim;
@@ -108,7 +110,7 @@ TEST_CASE("io: timeseries round trip") {
     TimeseriesWriter writer(path, 2);
     for (int row = 0; row < 5; ++row)
       writer.append(make_sample(row, 2));
-    writer.flush();
+    writer.commit();
     REQUIRE(writer.rows() == 5);
   }
   const std::vector<Sample> samples = read_timeseries(path);
@@ -130,12 +132,14 @@ TEST_CASE("io: timeseries reopened with keep_rows drops later rows") {
     TimeseriesWriter writer(path, 2);
     for (int row = 0; row < 5; ++row)
       writer.append(make_sample(row, 2));
+    writer.commit();
   }
   {
     TimeseriesWriter writer(path, 2, 3);
     REQUIRE(writer.rows() == 3);
     for (int row = 3; row < 5; ++row)
       writer.append(make_sample(row, 2, 0.5));
+    writer.commit();
   }
   const std::vector<Sample> samples = read_timeseries(path);
   REQUIRE(samples.size() == 5);
@@ -158,6 +162,7 @@ TEST_CASE("io: a timeseries of an older version (no repelled_nodes) reads as zer
     TimeseriesWriter writer(path, 2);
     for (int row = 0; row < 4; ++row)
       writer.append(make_sample(row, 2));
+    writer.commit();
   }
   {
     h5::Handle file = h5::open_file(path, H5F_ACC_RDWR);
@@ -170,6 +175,7 @@ TEST_CASE("io: a timeseries of an older version (no repelled_nodes) reads as zer
   {
     TimeseriesWriter writer(path, 2, 3); // resume at row 3: the column comes back
     writer.append(make_sample(3, 2, 0.5));
+    writer.commit();
   }
   samples = read_timeseries(path);
   REQUIRE(samples.size() == 4);
@@ -235,6 +241,64 @@ TEST_CASE("io: corrupt checkpoint throws naming the path") {
   }
   REQUIRE_THROWS_WITH(read_checkpoint(path),
                       Contains(path) && Contains("dataset /positions missing"));
+}
+
+namespace {
+
+// Writes beyond `bytes` per file fail with EFBIG (as on a full disk) while it lives: the
+// soft file size limit, with SIGXFSZ ignored so that write() returns the error.
+struct FileSizeLimit {
+  rlimit old{};
+  void (*old_handler)(int);
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &old);
+    old_handler = signal(SIGXFSZ, SIG_IGN);
+    rlimit limited = old;
+    limited.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limited);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, old_handler);
+  }
+};
+
+std::string bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+} // namespace
+
+TEST_CASE("io: a checkpoint or time series that cannot be written (disk full) leaves the "
+          "last good file and no .tmp, and says why") {
+  TempDir dir;
+  const std::string checkpoint = dir.file("checkpoint.h5");
+  Checkpoint c = make_checkpoint();
+  write_checkpoint(checkpoint, c);
+  c.positions.assign(20000, {1, 2, 3}); // 480 kB: beyond the limit below
+  c.nodes_per_capsule = 10000;
+  const std::string series = dir.file("timeseries.h5");
+  {
+    TimeseriesWriter writer(series, 2);
+    writer.append(make_sample(0, 2));
+    writer.commit();
+  }
+  const std::string series_before = bytes_of(series);
+  {
+    FileSizeLimit limit(fs::file_size(series) + 1000);
+    CHECK_THROWS_WITH(write_checkpoint(checkpoint, c),
+                      Contains(checkpoint) && Contains("File too large"));
+    TimeseriesWriter writer(series, 2, 1);
+    for (int row = 1; row < 200; ++row) // the second chunk of rows does not fit
+      writer.append(make_sample(row, 2));
+    CHECK_THROWS_WITH(writer.commit(), Contains(series) && Contains("File too large"));
+  }
+  CHECK(read_checkpoint(checkpoint).step == make_checkpoint().step);
+  CHECK(bytes_of(series) == series_before);
+  CHECK(read_timeseries(series).size() == 1);
+  CHECK_FALSE(fs::exists(checkpoint + ".tmp"));
+  CHECK_FALSE(fs::exists(series + ".tmp"));
 }
 
 TEST_CASE("io: missing checkpoint throws naming the path") {
