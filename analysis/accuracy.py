@@ -22,6 +22,7 @@ import argparse
 import json
 import math
 import re
+import sys
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -204,18 +205,24 @@ def discretisation_errors(values_by_level):
 
 
 def cost(run_dir):
-    """Wall and CPU seconds of a run (summary.json: its last invocation) and the CPU
-    seconds per unit strain."""
+    """Wall and CPU seconds of a run and its CPU seconds per unit strain; NaN for a run
+    that was resumed (summary.json times only its last invocation)."""
     summary = read_summary(run_dir)
+    if summary.get("resumed", False):
+        print(f"accuracy: {run_dir} was resumed, so its cost is unknown: run it again "
+              "from the start (delete its folder) to time it", file=sys.stderr)
+        return {"wall_s": math.nan, "cpu_s": math.nan, "cpu_s_per_strain": math.nan}
     return {"wall_s": float(summary["wall_seconds"]), "cpu_s": float(summary["cpu_seconds"]),
             "cpu_s_per_strain": float(summary["cpu_seconds"]) / float(summary["t_end"])}
 
 
 def pareto_front(cost_values, errors):
-    """True where no other point is at most as costly and as wrong, and better in one."""
+    """True where no other point is at most as costly and as wrong, and better in one
+    (never for a point whose cost or error is unknown)."""
     c, e = np.asarray(cost_values, float), np.asarray(errors, float)
     dominated = [(c <= ci) & (e <= ei) & ((c < ci) | (e < ei)) for ci, ei in zip(c, e)]
-    return np.array([np.isfinite(ei) and not d.any() for ei, d in zip(e, dominated)])
+    known = np.isfinite(c) & np.isfinite(e)
+    return np.array([k and not d.any() for k, d in zip(known, dominated)])
 
 
 def _case_parts(block, results, points):

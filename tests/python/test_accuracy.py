@@ -30,8 +30,9 @@ def test_order_not_observed_falls_back_to_the_nominal_order():
 
 
 def test_pareto_front():
-    front = pareto_front([1, 2, 3, 2, 3, 4], [3, 2, 1, 3, 3, float("nan")])
-    assert front.tolist() == [True, True, True, False, False, False]
+    nan = float("nan")
+    front = pareto_front([1, 2, 3, 2, 3, 4, nan], [3, 2, 1, 3, 3, nan, 0.5])
+    assert front.tolist() == [True, True, True, False, False, False, False]
 
 
 def test_bad_time_setting_is_named():

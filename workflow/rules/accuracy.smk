@@ -23,6 +23,7 @@ rule accuracy_run:
     wildcard_constraints:
         name="|".join(re.escape(name) for name in ACCURACY_RUNS),
     params:
+        python=PYTHON,
         dir="results/accuracy/{name}",
         options=lambda wc, threads: accuracy_study.capsim_options(
             ACCURACY_RUNS[wc.name], threads, ACCURACY["sample_interval"]),
@@ -30,14 +31,11 @@ rule accuracy_run:
     resources:
         runtime=lambda wc: config["resources"]["suspension_minutes"],
         mem_mb=lambda wc: config["resources"]["suspension_mem_mb"],
+    # As every run (runs.smk): started, or resumed from its checkpoint. A resumed run's
+    # summary.json times only its last invocation, so the study leaves its cost out.
     shell:
-        """
-        if [ -f {params.dir}/checkpoint.h5 ]; then
-          {input} run -q --resume {params.dir} --set threads={threads} > {log} 2>&1
-        else
-          {input} run -q {params.options} -o {params.dir} > {log} 2>&1
-        fi
-        """
+        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
+        "--log {log} --resume-set threads={threads} -- {params.options}"
 
 
 rule accuracy_errors:
