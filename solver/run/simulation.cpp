@@ -49,7 +49,11 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   r.max_cut_fraction = capabilities_of(parse_backend(o.backend)).max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
-  return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
+  try {
+    return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
+  } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
+    throw ConfigError(std::string("ewald.xi: ") + e.what());
+  }
 }
 
 FlowSetup flow_setup(const RunOptions& o, const Membrane& membrane,
