@@ -188,6 +188,11 @@ void RunLoop::start_from(const Checkpoint& c) {
     throw ConfigError(
         "checkpoint in '" + dir_ + "' does not match its own options " +
         "(mesh or capsule count differ): it is not a capsim checkpoint of this run");
+  // Every saved state passed check_state; one that does not now was altered since.
+  const std::string problem = broken_state(mesh_.topology, o_.capsules, c.positions);
+  if (!problem.empty())
+    throw std::runtime_error("checkpoint " + dir_ +
+                             "/checkpoint.h5 is corrupt: " + "/positions " + problem);
   x_ = c.positions;
   v0_ = c.volume0;
   step_ = c.step;
