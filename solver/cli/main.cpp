@@ -95,7 +95,8 @@ void check_greens(const GreensArgs& a) {
   for (double x : a.point)
     capsim::require_in("--point", x, {-1e6, 1e6});
   if (a.xi != 0)
-    capsim::require_in("--xi", a.xi, {0.1 / a.box, 30 / a.box, false, false});
+    capsim::require_in("--xi (xi L must be in [0.1, 30])", a.xi,
+                       {0.1 / a.box, 30 / a.box});
 }
 
 int greens_command(const GreensArgs& a) {
