@@ -21,6 +21,16 @@ constexpr int kExitConfig = 2;    // bad input: nothing was changed
 constexpr int kExitNumerical = 3; // numerical failure: the last checkpoint stays
 constexpr int kExitIo = 4;        // files could not be read or written
 
+// CLI11 checks of number options with the rules of the run keys (capsim::number_problem):
+// empty text, NaN, infinities, words and, for integers, fractions are refused with the
+// option named; the ranges are checked where the options are used.
+CLI::Validator finite_number() {
+  return {[](std::string& s) { return capsim::number_problem(s, false); }, "NUMBER"};
+}
+CLI::Validator whole_number() {
+  return {[](std::string& s) { return capsim::number_problem(s, true); }, "INT"};
+}
+
 struct RunArgs {
   std::string runfile, outdir, resume_dir;
   std::vector<std::string> sets;
@@ -55,21 +65,42 @@ void add_greens_command(CLI::App& app, GreensArgs& a) {
       "greens",
       "Print the periodic Stokeslet J^E (paper eq. 2.3) of a sheared cubic lattice "
       "at one point, as JSON, to check the kernel");
-  g->add_option("--box", a.box, "box side L (capsule radii)")
+  g->add_option("--box", a.box, "box side L (capsule radii), in [1e-6, 1e6]")
       ->required()
-      ->check(CLI::Range(1e-6, 1e6));
+      ->check(finite_number());
   g->add_option("--strain", a.strain,
-                "lattice strain offset s (wrapped into [-1/2, 1/2))");
-  g->add_option("--xi", a.xi, "Ewald splitting parameter (default sqrt(pi)/L)")
-      ->check(CLI::Range(1e-6, 1e6));
-  g->add_option("--tolerance", a.tolerance, "truncation tolerance of both sums")
-      ->check(CLI::Range(1e-16, 0.1));
-  g->add_option("--point", a.point, "field point x y z relative to the source")
+                "lattice strain offset s (wrapped into [-1/2, 1/2)), in [-1e6, 1e6]")
+      ->check(finite_number());
+  g->add_option("--xi", a.xi,
+                "Ewald splitting parameter (default sqrt(pi)/L); xi L in [0.1, 30]")
+      ->check(finite_number());
+  g->add_option("--tolerance", a.tolerance,
+                "truncation tolerance of both sums, in [1e-16, 0.1]")
+      ->check(finite_number());
+  g->add_option("--point", a.point,
+                "field point x y z relative to the source, each in [-1e6, 1e6]")
       ->required()
-      ->expected(3);
+      ->expected(3)
+      ->check(finite_number());
+}
+
+// Outside these ranges the sums either lose their accuracy or their cost explodes: the
+// real-space sum visits (r_cut / L)^3 ~ (xi L)^-3 images and the reciprocal sum
+// (k_cut L)^3 ~ (xi L)^3 wave vectors, so xi L is bounded on both sides (at the bounds
+// one evaluation takes well under a second).
+void check_greens(const GreensArgs& a) {
+  capsim::require_in("--box", a.box, {1e-6, 1e6});
+  capsim::require_in("--strain", a.strain, {-1e6, 1e6});
+  capsim::require_in("--tolerance", a.tolerance, {1e-16, 0.1});
+  for (double x : a.point)
+    capsim::require_in("--point", x, {-1e6, 1e6});
+  if (a.xi != 0)
+    capsim::require_in("--xi (xi L must be in [0.1, 30])", a.xi,
+                       {0.1 / a.box, 30 / a.box});
 }
 
 int greens_command(const GreensArgs& a) {
+  check_greens(a);
   capsim::ShearedLattice lattice = capsim::make_sheared_lattice(a.box, a.strain);
   capsim::EwaldParameters p = capsim::choose_ewald_parameters(a.box, a.tolerance, a.xi);
   capsim::EwaldCounts counts;
@@ -137,28 +168,45 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
       "bench", "Time one periodic single-layer evaluation of M capsules and measure its "
                "error against a tight direct Ewald reference; prints JSON");
   b->add_option("--capsules", a.o.capsules, "capsules M in the box")
-      ->capture_default_str();
-  b->add_option("--mesh-level", a.o.mesh_level, "icosphere level")->capture_default_str();
-  b->add_option("--phi", a.o.phi, "volume fraction")->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_number());
+  b->add_option("--mesh-level", a.o.mesh_level, "icosphere level")
+      ->capture_default_str()
+      ->check(whole_number());
+  b->add_option("--phi", a.o.phi, "volume fraction")
+      ->capture_default_str()
+      ->check(finite_number());
   b->add_option("--method", a.o.method, "spectral | direct | patches")
       ->capture_default_str();
   b->add_option("--patch-level", a.o.patch_level,
                 "method patches: icosphere level of the patches (1: P = 80)")
-      ->capture_default_str();
-  b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")->capture_default_str();
-  b->add_option("--strain", a.o.strain, "lattice strain offset")->capture_default_str();
-  b->add_option("--seed", a.o.seed, "packing seed")->capture_default_str();
-  b->add_option("--xi", a.o.xi, "Ewald xi (default: automatic, as in `capsim run`)");
-  b->add_option("--repeats", a.o.repeats, "timed evaluations")->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_number());
+  b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")
+      ->capture_default_str()
+      ->check(finite_number());
+  b->add_option("--strain", a.o.strain, "lattice strain offset")
+      ->capture_default_str()
+      ->check(finite_number());
+  b->add_option("--seed", a.o.seed, "packing seed")
+      ->capture_default_str()
+      ->check(whole_number());
+  b->add_option("--xi", a.o.xi, "Ewald xi (default: automatic, as in `capsim run`)")
+      ->check(finite_number());
+  b->add_option("--repeats", a.o.repeats, "timed evaluations")
+      ->capture_default_str()
+      ->check(whole_number());
   b->add_option("--reference", a.o.reference_file,
                 "file caching the reference velocities of this configuration");
   b->add_flag(
       "--no-reference", [&a](int64_t) { a.o.reference = false; },
       "skip the reference and the error");
-  b->add_option("--threads", a.threads, "OpenMP threads (default: all)");
+  b->add_option("--threads", a.threads, "OpenMP threads (default: all)")
+      ->check(whole_number());
 }
 
 int bench_command(const BenchArgs& a) {
+  capsim::require_in("--threads", a.threads, {0, 1024}, true); // as the run key
   if (a.threads > 0)
     omp_set_num_threads(a.threads);
   std::cout << capsim::run_benchmark(a.o) << "\n";
@@ -197,6 +245,27 @@ int run_command(const RunArgs& a) {
   return 0;
 }
 
+// Bad command lines end like every other bad input: one line `capsim: error: ...` that
+// names the option, and exit code 2 (CLI11's own report is two lines with codes from
+// 104 to 114). --help and --version keep CLI11's output and exit code 0.
+int report_parse_error(const CLI::App& app, const CLI::ParseError& e) {
+  if (e.get_exit_code() == 0)
+    return app.exit(e);
+  std::string what = e.what();
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && app.get_subcommands().empty()) {
+    const std::vector<std::string> extra = app.remaining();
+    what =
+        (extra.empty() ? std::string("a command is required")
+                       : "unknown command " + capsim::quoted_for_message(extra[0])) +
+        ": run, params, greens, multipole-error, bench or selftest (see capsim --help)";
+  }
+  for (char& ch : what) // CLI11 repeats what was typed: keep the message one line
+    if (static_cast<unsigned char>(ch) < 0x20)
+      ch = ' ';
+  std::fprintf(stderr, "capsim: error: %s\n", what.c_str());
+  return kExitConfig;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -218,7 +287,11 @@ int main(int argc, char** argv) {
   add_bench_command(app, bench_args);
   std::string selftest_backend = "cuda";
   add_selftest_command(app, selftest_backend);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return report_parse_error(app, e);
+  }
   try {
     if (app.got_subcommand("selftest"))
       return capsim::run_backend_selftest(capsim::parse_backend(selftest_backend),

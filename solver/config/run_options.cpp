@@ -11,24 +11,12 @@
 namespace capsim {
 namespace {
 
-struct Range {
-  double lo, hi;
-  bool lo_open, hi_open;
-  bool contains(double v) const {
-    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
-  }
-};
+using Range = NumberRange;
 
 std::string format_number(double v) {
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, r.ptr);
-}
-
-std::string range_text(Range r, bool integer) {
-  std::string kind = integer ? "an integer in " : "a number in ";
-  return kind + (r.lo_open ? "(" : "[") + format_number(r.lo) + ", " +
-         format_number(r.hi) + (r.hi_open ? ")" : "]");
 }
 
 // One config key: how to read it into RunOptions, how to print it back, what it means.
@@ -40,7 +28,7 @@ struct Param {
 
 [[noreturn]] void bad_value(const std::string& key, const std::string& allowed,
                             const std::string& value) {
-  throw ConfigError(key + ": must be " + allowed + ", got '" + value + "'");
+  throw ConfigError(key + ": must be " + allowed + ", got " + quoted_for_message(value));
 }
 
 double parse_double(const std::string& s, bool& ok) {
@@ -107,6 +95,62 @@ Param choice(const std::string& key, std::vector<std::string> names,
 const std::vector<Param>& parameters();
 
 } // namespace
+
+bool NumberRange::contains(double v) const {
+  return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+}
+
+// Integers print in full (100000, not 1e+05).
+std::string bound_text(double v, bool integer) {
+  return integer && std::abs(v) < 1e18 ? std::to_string(static_cast<long long>(v))
+                                       : format_number(v);
+}
+
+std::string range_text(NumberRange r, bool integer) {
+  std::string kind = integer ? "an integer in " : "a number in ";
+  return kind + (r.lo_open ? "(" : "[") + bound_text(r.lo, integer) + ", " +
+         bound_text(r.hi, integer) + (r.hi_open ? ")" : "]");
+}
+
+// Whatever was typed (a line break, an escape sequence, a megabyte of text), the error
+// stays one readable line.
+std::string quoted_for_message(const std::string& text) {
+  constexpr std::size_t kShown = 60;
+  std::string out = "'";
+  for (std::size_t i = 0; i < std::min(text.size(), kShown); ++i) {
+    const auto ch = static_cast<unsigned char>(text[i]);
+    if (ch < 0x20 || ch == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(ch));
+      out += buf;
+    } else {
+      out += char(ch);
+    }
+  }
+  out += "'";
+  if (text.size() > kShown)
+    out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
+
+std::string number_problem(const std::string& text, bool integer) {
+  bool ok;
+  const double v = parse_double(text, ok);
+  if (!ok || (integer && v != std::floor(v)))
+    return std::string("must be ") + (integer ? "an integer" : "a finite number") +
+           ", got " + quoted_for_message(text);
+  const Range int_range{double(std::numeric_limits<int>::min()),
+                        double(std::numeric_limits<int>::max())};
+  if (integer && !int_range.contains(v))
+    return "must be " + range_text(int_range, true) + ", got " + quoted_for_message(text);
+  return "";
+}
+
+void require_in(const std::string& name, double v, NumberRange r, bool integer) {
+  if (!r.contains(v))
+    throw ConfigError(name + ": must be " + range_text(r, integer) + ", got " +
+                      bound_text(v, integer));
+}
 
 namespace {
 
@@ -305,19 +349,37 @@ const Param& find_param(const std::string& key) {
   std::string known;
   for (const auto& p : parameters())
     known += (known.empty() ? "" : ", ") + p.key;
-  throw ConfigError("unknown key '" + key + "' (known keys: " + known + ")");
+  throw ConfigError("unknown key " + quoted_for_message(key) + " (known keys: " + known +
+                    ")");
 }
 
+// A key as the messages name it: plainly, unless it holds more than letters, digits,
+// '_' and '.' (then quoted and escaped by quoted_for_message).
+std::string key_for_message(const std::string& key) {
+  for (const char ch : key)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '.')
+      return quoted_for_message(key);
+  return key.empty() ? "''" : key;
+}
+
+// A key given twice (`ca` twice, or `quadrature: {far_ratio: ..}` and
+// `quadrature.far_ratio`) is refused: YAML forbids it, and which value would count is
+// not obvious to the reader of the file.
 void flatten(const YAML::Node& node, const std::string& prefix,
              std::vector<std::pair<std::string, std::string>>& out) {
   for (const auto& kv : node) {
     std::string key = prefix + kv.first.as<std::string>();
-    if (kv.second.IsMap())
+    if (kv.second.IsMap() && kv.second.size() > 0) {
       flatten(kv.second, key + ".", out);
-    else if (kv.second.IsScalar())
-      out.emplace_back(key, kv.second.as<std::string>());
-    else
-      throw ConfigError(key + ": must be a single value, not a list or an empty entry");
+      continue;
+    }
+    if (!kv.second.IsScalar())
+      throw ConfigError(key_for_message(key) +
+                        ": must be a single value, not a list, a map or an empty entry");
+    for (const auto& [seen, value] : out)
+      if (seen == key)
+        throw ConfigError(key_for_message(key) + ": given twice");
+    out.emplace_back(key, kv.second.as<std::string>());
   }
 }
 
@@ -354,7 +416,7 @@ RunOptions parse_run_options(const std::string& yaml_text,
   for (const auto& s : overrides) {
     auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw ConfigError("--set '" + s + "': must be key=value");
+      throw ConfigError("--set " + quoted_for_message(s) + ": must be key=value");
     entries.emplace_back(s.substr(0, eq), s.substr(eq + 1));
   }
   RunOptions o;

@@ -66,6 +66,24 @@ struct ConfigError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The allowed values of a number: from lo to hi, either end open or closed.
+struct NumberRange {
+  double lo, hi;
+  bool lo_open = false, hi_open = false;
+  bool contains(double v) const; // false for NaN
+};
+// "a number in (0, 10]", "an integer in [1, 5]".
+std::string range_text(NumberRange r, bool integer);
+// `text` quoted for an error message: control characters escaped, long text cut, so
+// that the message stays one readable line.
+std::string quoted_for_message(const std::string& text);
+// The run keys' reading of numbers, for command-line options (bench, greens): "" when
+// `text` is a finite number (an integer that fits an int, if `integer`), else
+// "must be ..., got '...'".
+std::string number_problem(const std::string& text, bool integer);
+// Throws ConfigError "NAME: must be RANGE, got V" unless r holds v (never NaN).
+void require_in(const std::string& name, double v, NumberRange r, bool integer = false);
+
 // Reads a run file (YAML, nested maps allowed: `quadrature: {far_ratio: 4}` is the key
 // quadrature.far_ratio), then applies `key=value` overrides, then validates everything.
 RunOptions load_run_options(const std::string& yaml_path,

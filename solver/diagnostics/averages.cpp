@@ -20,7 +20,9 @@ struct MeanStd {
     m2 += delta * (v - m);
   }
   double mean() const { return n ? m : NAN; }
-  double std() const { return n < 2 ? 0 : std::sqrt(m2 / n); }
+  // No values: NaN like the mean (summary.json null), not a spread of 0 that was never
+  // measured.
+  double std() const { return n == 0 ? NAN : n < 2 ? 0 : std::sqrt(m2 / n); }
 };
 
 } // namespace

@@ -1,5 +1,7 @@
 #include "dynamics/cpu_flow.hpp"
 
+#include "dynamics/time_stepping.hpp"
+
 namespace capsim {
 
 CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup) {
@@ -21,10 +23,15 @@ void CpuFlow::traction(const std::vector<Vec3>& x, double t, std::vector<Vec3>& 
   }
 }
 
+// The single-layer kernels sum every node's traction into every velocity: one NaN in
+// their input makes all of u NaN. Both ends are checked (O(N) against the kernels'
+// O(N^2)) so that the message names where it began.
 void CpuFlow::velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const {
   const Topology& topo = membrane().topology();
   std::vector<Vec3> q;
+  require_finite(x, topo.num_nodes, "position", t);
   traction(x, t, q);
+  require_finite(q, topo.num_nodes, "membrane traction", t);
   if (periodic())
     periodic_single_layer_velocity(topo, num_capsules(), x, q, lattice(t),
                                    setup_.box.ewald, setup_.quadrature, u,
@@ -33,6 +40,7 @@ void CpuFlow::velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& 
     single_layer_velocity(topo, num_capsules(), x, q, setup_.quadrature, u);
   for (size_t i = 0; i < x.size(); ++i)
     u[i].x += setup_.shear_rate * x[i].y;
+  require_finite(u, topo.num_nodes, "velocity", t);
 }
 
 } // namespace capsim

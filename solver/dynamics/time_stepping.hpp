@@ -5,6 +5,7 @@
 #include "dynamics/simulation_error.hpp"
 #include "mesh/icosphere.hpp"
 
+#include <string>
 #include <vector>
 
 namespace capsim {
@@ -16,10 +17,22 @@ std::vector<double> enforce_volume(const Topology& topo, int num_capsules,
                                    std::vector<Vec3>& x,
                                    const std::vector<double>& volume0);
 
-// Throws SimulationError if any position is not finite, a capsule has stretched beyond
-// max_extent radii from its centroid, or a triangle has collapsed or inverted.
+// What is wrong with positions x ("in capsule C: ..."), or "" when nothing: a position
+// is not finite, a capsule has stretched beyond max_extent radii from its centroid, or
+// a triangle has collapsed or inverted.
+std::string broken_state(const Topology& topo, int num_capsules,
+                         const std::vector<Vec3>& x, double max_extent = 10.0);
+
+// Throws SimulationError (a numerical failure at `time`) when broken_state finds a fault.
 void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
                  double time, double max_extent = 10.0);
+
+// The guard at a kernel's input or output: throws SimulationError naming `what` (e.g.
+// "membrane traction"), the capsule and the node of the first value of v that is NaN
+// or Inf, so that such a value stops the run at once instead of spreading into every
+// node and the averages.
+void require_finite(const std::vector<Vec3>& v, int nodes_per_capsule,
+                    const std::string& what, double time);
 
 // The automatic step: dt = safety * Ca * h, h the mean edge length of the undeformed
 // mesh. The membrane's fastest relaxation mode on scale h has rate ~ Gs/(mu h) = 1/(Ca

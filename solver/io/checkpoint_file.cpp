@@ -4,9 +4,11 @@
 #include "io/kill_point.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 
 namespace capsim {
@@ -29,6 +31,32 @@ void check_consistent(const Checkpoint& c) {
                              std::to_string(nodes));
   if (c.samples_written < 0 || c.snapshots_written < 0 || c.step < 0)
     throw std::runtime_error("step, samples_written or snapshots_written is negative");
+}
+
+// A NaN or Inf read back (a corrupt file, a state saved by a broken build) would reach
+// the kernels at the first step and come out as NaN averages: refused here, naming the
+// dataset, before anything is computed.
+void check_finite(const Checkpoint& c) {
+  auto fail = [](const std::string& dataset, double v, const std::string& where = "") {
+    std::ostringstream m;
+    m << dataset << where << " is ";
+    if (std::isfinite(v))
+      m << v << ", out of range";
+    else
+      m << "not finite (" << v << ")";
+    throw std::runtime_error(m.str());
+  };
+  if (!(std::isfinite(c.time) && c.time >= 0))
+    fail("/time", c.time);
+  if (!(std::isfinite(c.next_dt) && c.next_dt >= 0))
+    fail("/next_dt", c.next_dt);
+  for (std::size_t i = 0; i < c.volume0.size(); ++i)
+    if (!(std::isfinite(c.volume0[i]) && c.volume0[i] > 0))
+      fail("/volume0", c.volume0[i], " of capsule " + std::to_string(i));
+  for (std::size_t i = 0; i < c.positions.size(); ++i)
+    for (double v : {c.positions[i].x, c.positions[i].y, c.positions[i].z})
+      if (!std::isfinite(v))
+        fail("/positions", v, " of node " + std::to_string(i));
 }
 
 void write_contents(const std::string& file_path, const Checkpoint& c) {
@@ -104,6 +132,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     for (hsize_t i = 0; i < nodes; ++i)
       c.positions[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
     c.options_yaml = h5::read_string_dataset(f, "/options_yaml");
+    check_finite(c);
     return c;
   });
 }

@@ -26,21 +26,22 @@ struct Configuration {
   std::vector<Vec3> x, q;
 };
 
+// The ranges of the options, in the messages of the run keys ("--phi: must be a number
+// in (0, 0.45], got 0.5"); NaN fails every range.
 void check_options(const BenchOptions& o) {
-  if (o.capsules < 1 || o.capsules > 100000)
-    throw ConfigError("--capsules must be in [1, 100000]");
-  if (o.mesh_level < 0 || o.mesh_level > 5)
-    throw ConfigError("--mesh-level must be in [0, 5]");
-  if (!(o.phi > 0 && o.phi <= 0.45))
-    throw ConfigError("--phi must be in (0, 0.45]");
+  require_in("--capsules", o.capsules, {1, 100000}, true);
+  require_in("--mesh-level", o.mesh_level, {0, 5}, true);
+  require_in("--phi", o.phi, {0, 0.45, true, false});
   if (o.method != "spectral" && o.method != "direct" && o.method != "patches")
-    throw ConfigError("--method must be spectral, direct or patches");
-  if (o.patch_level < 0 || o.patch_level > o.mesh_level)
-    throw ConfigError("--patch-level must be in [0, --mesh-level]");
-  if (!(o.tolerance >= 1e-12 && o.tolerance < 1))
-    throw ConfigError("--tolerance must be in [1e-12, 1)");
-  if (o.repeats < 1 || o.repeats > 100)
-    throw ConfigError("--repeats must be in [1, 100]");
+    throw ConfigError("--method: must be one of {spectral, direct, patches}, got " +
+                      quoted_for_message(o.method));
+  require_in("--patch-level", o.patch_level, {0, double(o.mesh_level)}, true);
+  require_in("--tolerance", o.tolerance, {1e-12, 1, false, true});
+  require_in("--strain", o.strain, {-1e6, 1e6});
+  require_in("--seed", o.seed, {0, 2147483647.0}, true);
+  if (o.xi != 0) // 0: automatic
+    require_in("--xi", o.xi, {0, 100, true, false});
+  require_in("--repeats", o.repeats, {1, 100}, true);
 }
 
 // M capsules packed at random (seeded) at volume fraction phi, each an ellipsoid
@@ -143,9 +144,14 @@ std::string run_benchmark(const BenchOptions& o) {
   const QuadratureOptions quad;
   const long nodes = long(c.x.size());
   const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
-  const PeriodicBox box = make_periodic_box(
-      c.L, {parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level}, nodes,
-      points);
+  PeriodicBox box;
+  try {
+    box = make_periodic_box(
+        c.L, {parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level}, nodes,
+        points);
+  } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
+    throw ConfigError(std::string("--xi: ") + e.what());
+  }
   const ShearedLattice lattice = make_sheared_lattice(c.L, o.strain);
   std::unique_ptr<SpectralEwald> spectral;
   if (box.method == EwaldMethod::spectral)

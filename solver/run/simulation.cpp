@@ -50,7 +50,11 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   r.max_cut_fraction = capabilities_of(parse_backend(o.backend)).max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
-  return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
+  try {
+    return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
+  } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
+    throw ConfigError(std::string("ewald.xi: ") + e.what());
+  }
 }
 
 FlowSetup flow_setup(const RunOptions& o, const Membrane& membrane,
@@ -220,6 +224,11 @@ void RunLoop::start_from(const Checkpoint& c) {
     throw ConfigError(
         "checkpoint in '" + dir_ + "' does not match its own options " +
         "(mesh or capsule count differ): it is not a capsim checkpoint of this run");
+  // Every saved state passed check_state; one that does not now was altered since.
+  const std::string problem = broken_state(mesh_.topology, o_.capsules, c.positions);
+  if (!problem.empty())
+    throw std::runtime_error("checkpoint " + dir_ +
+                             "/checkpoint.h5 is corrupt: " + "/positions " + problem);
   x_ = c.positions;
   v0_ = c.volume0;
   step_ = c.step;

@@ -3,6 +3,7 @@
 #include "stokes/ewald_reciprocal.hpp"
 
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 
 namespace capsim {
@@ -49,6 +50,29 @@ double automatic_xi(double L, EwaldMethod method, double tolerance, long nodes,
   return balanced_xi(L, tolerance, nodes, points, kRealPairCost);
 }
 
+// A given xi far from the automatic one makes one of the sums explode: the real-space
+// sum visits ~(r_cut / L)^3 images of every pair, and the reciprocal sum ~(k_cut L /
+// 2 pi)^3 wave vectors or grid points. xi = 1e-9 or 100 in a box of a few radii asked
+// for tens of gigabytes (or overflowed the grid size); these bounds are far beyond
+// any automatic choice and keep memory within reason.
+constexpr double kMaxCutBoxes = 4;      // r_cut / L
+constexpr double kMaxWaveNumbers = 128; // k_cut L / (2 pi), per direction
+
+void check_given_xi(double L, double xi, const EwaldParameters& p) {
+  std::ostringstream m;
+  const double waves = p.k_cut * L / (2.0 * kPi);
+  if (p.r_cut > kMaxCutBoxes * L)
+    m << xi << " is too small for the box side L = " << L << ": the real-space cut-off "
+      << p.r_cut << " would be " << p.r_cut / L << " L (at most " << kMaxCutBoxes
+      << " L); raise it or use auto";
+  else if (waves > kMaxWaveNumbers)
+    m << xi << " is too large for the box side L = " << L << ": the reciprocal sum would "
+      << "need k_cut L / 2 pi = " << waves << " wave numbers per direction (at most "
+      << kMaxWaveNumbers << "); lower it or use auto";
+  if (!m.str().empty())
+    throw std::invalid_argument(m.str());
+}
+
 } // namespace
 
 PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
@@ -66,6 +90,8 @@ PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
     xi = std::max(xi, x_cut / (0.95 * request.max_cut_fraction * L));
   }
   box.ewald = choose_ewald_parameters(L, tolerance, xi);
+  if (request.xi > 0)
+    check_given_xi(L, xi, box.ewald);
   if (request.method == EwaldMethod::spectral)
     box.grid = choose_spectral_parameters(L, box.ewald, tolerance);
   return box;

@@ -44,4 +44,10 @@ TEST_CASE("time averages: the window selects samples, one value has no spread",
   CHECK(a.rows == 1);
   CHECK(a.D_mean == Approx(0.4));
   CHECK(a.D_std == 0);
+  // An empty window (a run stopped before t_avg_start): no mean and no spread.
+  const RunAverages none = time_average(alternating_samples(10, 0.3, 0.1), 50, 60);
+  CHECK(none.rows == 0);
+  CHECK(std::isnan(none.D_mean));
+  CHECK(std::isnan(none.D_std));
+  CHECK(std::isnan(none.theta_D_std));
 }

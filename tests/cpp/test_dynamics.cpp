@@ -65,3 +65,25 @@ TEST_CASE("dynamics: blow-up and NaN stop with a clear message", "[dynamics]") {
   std::swap(x[t[1]], x[t[2]]); // fold one triangle over
   CHECK_THROWS_WITH(check_state(s.topology, 1, x, 3.0), Catch::Contains("inverted"));
 }
+
+// The guard at the kernels' input (docs/reliability.md, "Numerical guards"): a NaN or
+// Inf position, or finite positions whose membrane traction is not finite, stop the
+// first evaluation with a message naming the array, the capsule and the node, instead
+// of spreading NaN into every velocity.
+TEST_CASE("dynamics: a non-finite kernel input stops the first step and is named",
+          "[dynamics]") {
+  Icosphere s = make_icosphere(1);
+  Membrane membrane(s.topology, s.positions.data(), 1.0);
+  const CpuFlow flow({membrane, 1, 1.0});
+  std::vector<Vec3> u;
+  auto x = s.positions;
+  x[7].y = NAN;
+  CHECK_THROWS_WITH(flow.velocity(x, 0.0, u),
+                    Catch::Contains("the position at node 7 is not finite"));
+  x = s.positions;
+  for (Vec3& p : x) // finite, but the stretch energy overflows
+    p = 1e160 * p;
+  CHECK_THROWS_WITH(flow.heun_step(x, 0.0, 1e-3), Catch::Contains("membrane traction") &&
+                                                      Catch::Contains("in capsule 0"));
+  CHECK_THROWS_AS(flow.heun_step(x, 0.0, 1e-3), SimulationError);
+}

@@ -56,6 +56,28 @@ TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
   CHECK_THAT(error_of("", {"ca"}), Catch::Contains("must be key=value"));
 }
 
+// Found by the fuzzed run files (tests/python/test_fuzz_inputs.py): each of these was
+// accepted silently or printed a message over several lines or thousands of characters.
+TEST_CASE("config: duplicated keys, empty maps and odd text give one short line",
+          "[config]") {
+  CHECK_THAT(error_of("ca: 0.3\nca: 0.4\n"), Catch::Contains("ca: given twice"));
+  CHECK_THAT(error_of("quadrature:\n  far_ratio: 3\nquadrature.far_ratio: 4\n"),
+             Catch::Contains("quadrature.far_ratio: given twice"));
+  CHECK(parse_run_options("ca: 0.3\n", {"ca=0.4", "ca=0.5"}).ca == 0.5); // --set: last
+  CHECK_THAT(error_of("ca: {}\n"), Catch::Contains("ca: must be a single value"));
+  const std::string multi = error_of("ca: |\n  0.3\n  0.4\n");
+  CHECK_THAT(multi, Catch::Contains("got '0.3\\x0a0.4\\x0a'"));
+  CHECK(multi.find('\n') == std::string::npos);
+  const std::string huge = error_of("", {"ca=" + std::string(5000, '9')});
+  CHECK_THAT(huge, Catch::Contains("(5000 characters)"));
+  CHECK(huge.size() < 200);
+  CHECK_THAT(error_of("", {"k\x07=1"}), Catch::Contains("unknown key 'k\\x07'"));
+  CHECK(number_problem("nan", false) != "");
+  CHECK(number_problem("", true) != "");
+  CHECK(number_problem("3", true) == "");
+  CHECK_THAT(number_problem("99999999999", true), Catch::Contains("2147483647"));
+}
+
 TEST_CASE("config: the resolved YAML reads back to the same options", "[config]") {
   RunOptions o = parse_run_options("", {"ca=0.35", "quadrature.near_ratio=3", "dt=0.002",
                                         "output.snapshot_interval=0", "threads=1"});
