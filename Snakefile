@@ -45,6 +45,7 @@ rule all:
     input:
         "results/dilute/table.md",
         FIGURE_OUTPUTS,
+        COMPARISON_OUTPUTS,
 
 
 # A failed invocation ends with the list of its failed jobs, each with its log and capsim's

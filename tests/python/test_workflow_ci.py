@@ -35,6 +35,11 @@ def test_ci_workflow_and_check(tmp_path):
         for ext in ("png", "pdf", "csv"):
             assert (figures / f"fig{n:02d}.{ext}").stat().st_size > 0
     assert (figures / "table1.md").exists() and (figures / "table1.csv").exists()
+    # The paper's numbers against the ci run: most are not in this tiny configuration.
+    comparison = (figures / "paper_comparison.md").read_text()
+    assert "this run (config/ci.yaml)" in comparison
+    assert "not in this configuration" in comparison and "Rule: a value agrees" in comparison
+    assert (figures / "paper_comparison.csv").stat().st_size > 0
     report = (tmp_path / "results" / "check" / "report.md").read_text()
     assert "0 failed" in report
     # Nothing is left to do: a second invocation runs no job.

@@ -64,3 +64,37 @@ rule table1:
         stem=lambda wc, output: os.path.splitext(output.csv)[0],
     shell:
         "{params.python} {input.script} --out {params.stem} {input.table} > {log} 2>&1"
+
+
+# The paper's numbers (config/paper_numbers.yaml: Table 1, the text's numbers, the trends
+# of figures 5, 7, 9, 10 as signs, and published single-capsule values) against this
+# run's, with their standard errors and a verdict (analysis/paper_comparison.py). The
+# column is labelled with the configuration files of this run. A second column from
+# another results folder: `python -m analysis.paper_comparison ... --other DIR`.
+COMPARISON_INPUTS = ["results/dilute/table.csv", "results/grid/table.csv",
+                     "results/mesh/table.csv"] + [
+    f"results/figures/{name}.csv"
+    for name in ("table1", "fig01", "fig05", "fig06", "fig07", "fig08", "fig09", "fig10", "fig11")]
+COMPARISON_OUTPUTS = ["results/figures/paper_comparison.md",
+                      "results/figures/paper_comparison.csv"]
+
+
+rule paper_comparison:
+    input:
+        COMPARISON_INPUTS,
+        code=analysis_module("paper_comparison"),
+        numbers=os.path.join(ROOT, "config", "paper_numbers.yaml"),
+    output:
+        md=COMPARISON_OUTPUTS[0],
+        csv=COMPARISON_OUTPUTS[1],
+    log:
+        "results/logs/figures/paper_comparison.log",
+    params:
+        python=PYTHON,
+        stem=lambda wc, output: os.path.splitext(output.csv)[0],
+        # the --configfile files of this invocation (merged over config/config.yaml)
+        label=", ".join(os.path.relpath(f, ROOT) for f in
+                        (workflow.overwrite_configfiles or workflow.configfiles)),
+    shell:
+        "{params.python} -m analysis.paper_comparison --results results "
+        "--numbers {input.numbers} --out {params.stem} --label '{params.label}' > {log} 2>&1"
