@@ -171,9 +171,12 @@ def run_names(block):
 
 def run_values(results, setting, window=None):
     """<D>, mu_sp, N1 and their standard errors of a setting's run over `window`
-    (default: the setting's own)."""
+    (default: the setting's own); NaN for a run that stopped before the window."""
     t0, t1 = window or setting.window
-    row = run_row(Path(results) / setting.run, t0, t1)
+    try:
+        row = run_row(Path(results) / setting.run, t0, t1)
+    except ValueError:  # no samples in the window (capsim's exit 3, summary "ended")
+        row = {f"{q}{end}": math.nan for q in QUANTITIES for end in ("", "_se")}
     return {q: row[q] for q in QUANTITIES} | {f"{q}_se": row[f"{q}_se"] for q in QUANTITIES}
 
 
@@ -272,7 +275,8 @@ def error_table(block, results):
             row = {"case": case, "family": p.family, "families": p.family, "label": p.label,
                    "ca": p.ca, "phi": p.phi, "mesh_level": p.level, "capsules": p.capsules,
                    "ewald_tolerance": p.ewald, "time": p.time, "t_end": p.t_end,
-                   "window_start": p.window[0], "window_end": p.window[1], "run": p.run}
+                   "window_start": p.window[0], "window_end": p.window[1], "run": p.run,
+                   "ended": read_summary(Path(results) / p.run).get("ended", "t_end")}
             row |= cost(Path(results) / p.run)
             for q in QUANTITIES:
                 value = own[p]

@@ -39,7 +39,7 @@ CASE = {"method": "direct", "phi": 0.05, "capsules": 2, "mesh_level": 1, "t_end"
         "t_avg_start": 1, "output.checkpoint_interval": 0.1,
         "output.snapshot_interval": 1, "threads": 1}
 # summary.json fields that describe the invocation, not the run.
-INVOCATION_FIELDS = {"wall_seconds", "resumed"}
+INVOCATION_FIELDS = {"wall_seconds", "cpu_seconds", "resumed"}
 
 
 def settings(case):

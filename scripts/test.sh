@@ -51,7 +51,8 @@ sanitized_suite() {
     tail -50 "$dir/build.log" >&2
     return 1
   }
-  ctest_suite "$dir" -E "relaxes to a sphere, energy decreasing|converges at second order"
+  LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp" \
+    ctest_suite "$dir" -E "relaxes to a sphere, energy decreasing|converges at second order"
 }
 
 # The C++ suite of build folder $1 (extra ctest arguments after it). --no-tests=error: an

@@ -60,12 +60,14 @@ std::vector<std::string> with(std::vector<std::string> a,
   return a;
 }
 
-// summary.json without the lines that legitimately differ (wall time, resumed flag).
+// summary.json without the lines that legitimately differ (wall and CPU time, resumed
+// flag).
 std::string physics_of_summary(const fs::path& dir) {
   std::ifstream in(dir / "summary.json");
   std::string line, out;
   while (std::getline(in, line))
     if (line.find("wall_seconds") == std::string::npos &&
+        line.find("cpu_seconds") == std::string::npos &&
         line.find("\"resumed\"") == std::string::npos)
       out += line + "\n";
   return out;

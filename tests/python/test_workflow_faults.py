@@ -18,7 +18,6 @@ import os
 import shutil
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -29,15 +28,7 @@ from analysis.capsim_job import run_job
 from analysis.read_run import read_timeseries
 from analysis.tables import read_table
 
-ROOT = Path(__file__).resolve().parents[2]
-CAPSIM = ROOT / "build" / "capsim"
-SNAKEMAKE = Path(sys.executable).with_name("snakemake")
-
-pytestmark = [
-    pytest.mark.skipif(not CAPSIM.exists(), reason="build/capsim is missing (bash scripts/setup.sh)"),
-    pytest.mark.skipif(not SNAKEMAKE.exists() and not shutil.which("snakemake"),
-                       reason="snakemake is not installed"),
-]
+from test_workflow_ci import CAPSIM, ROOT, SNAKEMAKE, pytestmark  # noqa: F401 (the skips)
 
 # Mesh study: level 1 and level 2 (seeds 1, 2). method patches with patch level 2 is
 # refused by capsim at mesh level 1 only ("at most mesh_level"): one bad run of three.

@@ -31,11 +31,12 @@ rule accuracy_run:
     resources:
         runtime=lambda wc: config["resources"]["suspension_minutes"],
         mem_mb=lambda wc: config["resources"]["suspension_mem_mb"],
-    # As every run (runs.smk): started, or resumed from its checkpoint. A resumed run's
-    # summary.json times only its last invocation, so the study leaves its cost out.
+    # As every run (runs.smk): started, or resumed from its checkpoint; a run stopped by
+    # contact is kept (its averages, if it stopped before its window, are left out). A
+    # resumed run's summary.json times only its last invocation: its cost is left out.
     shell:
         "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
-        "--log {log} --resume-set threads={threads} -- {params.options}"
+        "--log {log} --stopped-ok --resume-set threads={threads} -- {params.options}"
 
 
 rule accuracy_errors:
