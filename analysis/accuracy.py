@@ -29,7 +29,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analysis.read_run import read_summary
+from analysis.read_run import read_summary, read_timeseries
+from analysis.rheology import stress_factor
 from analysis.tables import run_row, write_table
 
 QUANTITIES = ("D", "mu_sp", "N1")
@@ -52,14 +53,19 @@ class Setting:
     t_end: float
     window: tuple
     seed: int = 1
+    sample_interval: float = 0  # 0: the study's; a reference samples finer
+
 
     @property
     def run(self):
         """The run's folder name: all that distinguishes its run."""
+        sampled = f"_s{self.sample_interval:g}" if self.sample_interval else ""
         if self.phi == 0:
-            return f"ca{self.ca:g}_phi0_level{self.level}_{self.time}_t{self.t_end:g}"
+            return (f"ca{self.ca:g}_phi0_level{self.level}_{self.time}_t{self.t_end:g}"
+                    + sampled)
         return (f"ca{self.ca:g}_phi{self.phi:g}_M{self.capsules}_level{self.level}"
-                f"_seed{self.seed}_ewald{self.ewald:g}_{self.time}_t{self.t_end:g}")
+                f"_seed{self.seed}_ewald{self.ewald:g}_{self.time}_t{self.t_end:g}"
+                + sampled)
 
     @property
     def label(self):
@@ -87,7 +93,8 @@ def capsim_options(setting, threads, sample_interval):
     step of the settings compared."""
     keys = [f"ca={setting.ca:g}", f"mesh_level={setting.level}",
             f"t_end={setting.t_end:g}", f"t_avg_start={setting.window[0]:g}",
-            f"threads={threads}", f"output.sample_interval={sample_interval:g}",
+            f"threads={threads}",
+            f"output.sample_interval={setting.sample_interval or sample_interval:g}",
             "output.snapshot_interval=0"] + time_options(setting.time)
     if setting.phi > 0:
         keys += [f"phi={setting.phi:g}", f"capsules={setting.capsules}",
@@ -139,16 +146,19 @@ def _dilute_plan(block):
 def references(block):
     """The reference runs of the Ewald and time parts: the suspension's base over the
     early window with a tight Ewald tolerance, or with a small step; the dilute base with
-    the small step over its own window."""
+    the small step over its own window. The small-step references sample finely: a
+    fixed step samples at the step nearest each sample time, so a run is compared with
+    the reference interpolated at its own sample times (time_errors)."""
     base = _suspension_plan(block)[0]
     ref = block["reference"]
     short = replace(base, family="reference", t_end=block["short_window"][1],
                     window=tuple(block["short_window"]))
+    fine = {"time": ref["time"], "sample_interval": ref["sample_interval"]}
     refs = {("suspension", "ewald"): replace(short, ewald=ref["ewald_tolerance"]),
-            ("suspension", "time"): replace(short, time=ref["time"])}
+            ("suspension", "time"): replace(short, **fine)}
     for point in _dilute_plan(block):
         if point.family == "base":
-            refs[(point.case, "time")] = replace(point, family="reference", time=ref["time"])
+            refs[(point.case, "time")] = replace(point, family="reference", **fine)
     return refs
 
 
@@ -178,6 +188,29 @@ def run_values(results, setting, window=None):
     except ValueError:  # no samples in the window (capsim's exit 3, summary "ended")
         row = {f"{q}{end}": math.nan for q in QUANTITIES for end in ("", "_se")}
     return {q: row[q] for q in QUANTITIES} | {f"{q}_se": row[f"{q}_se"] for q in QUANTITIES}
+
+
+def sampled_values(results, setting):
+    """The capsule means of D, mu_sp and N1 at every sample of a setting's run, and the
+    sample times."""
+    run_dir = Path(results) / setting.run
+    ts = read_timeseries(run_dir)
+    s = np.asarray(ts["stresslet"], float).mean(axis=1)
+    factor = stress_factor(setting.phi, setting.ca)
+    return {"time": np.asarray(ts["time"], float), "D": np.asarray(ts["D"]).mean(axis=1),
+            "mu_sp": factor * s[:, 0, 1], "N1": factor * (s[:, 0, 0] - s[:, 1, 1])}
+
+
+def time_errors(got, ref, window):
+    """Relative error of the window mean of each quantity of `got` against the reference
+    interpolated (finely sampled) at got's own sample times."""
+    t = got["time"]
+    inside = (t >= window[0]) & (t <= window[1])
+    errors = {}
+    for q in QUANTITIES:
+        want = np.interp(t[inside], ref["time"], ref[q]).mean()
+        errors[q] = abs(got[q][inside].mean() - want) / abs(want)
+    return errors
 
 
 def observed_order(values_by_level):
@@ -242,18 +275,20 @@ def _case_parts(block, results, points):
         for level, e in errors.items():
             disc.setdefault(level, {})[q] = e
     parts = {"disc": disc, "ewald": {}, "time": {}}
-    for family, attr in (("ewald", "ewald"), ("time", "time")):
-        ref = refs.get((case, family))
-        if ref is None:  # no Ewald sums in unbounded shear
-            continue
-        window = ref.window
-        want = run_values(results, ref)
-        for p in (p for p in points if p.family == family):
-            got = run_values(results, p, window)
-            parts[family][getattr(p, attr)] = {q: abs(got[q] - want[q]) / abs(want[q])
-                                               for q in QUANTITIES}
-    if case.startswith("dilute"):
+    ewald_ref = refs.get((case, "ewald"))
+    if ewald_ref is None:  # no Ewald sums in unbounded shear
         parts["ewald"][base.ewald] = {q: 0.0 for q in QUANTITIES}
+    else:  # the same (exact) sample times in every run of the family
+        want = run_values(results, ewald_ref)
+        for p in (p for p in points if p.family == "ewald"):
+            got = run_values(results, p, ewald_ref.window)
+            parts["ewald"][p.ewald] = {q: abs(got[q] - want[q]) / abs(want[q])
+                                       for q in QUANTITIES}
+    time_ref = refs[(case, "time")]
+    fine = sampled_values(results, time_ref)
+    for p in (p for p in points if p.family == "time"):
+        parts["time"][p.time] = time_errors(sampled_values(results, p), fine,
+                                            time_ref.window)
     return parts, orders, own
 
 

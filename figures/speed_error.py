@@ -11,6 +11,7 @@ import argparse
 
 import common
 from common import plt
+from matplotlib.ticker import FormatStrFormatter, LogLocator
 
 from analysis.accuracy import PARTS
 from analysis.tables import read_table
@@ -24,8 +25,9 @@ def panel(ax, rows, q):
     """One case and quantity: the points by family, the front, the configurations."""
     for family, group in rows.groupby("family", sort=False):
         configured = family not in FAMILIES
+        color = f"C{list(FAMILIES).index(family)}" if not configured else "C6"
         ax.loglog(group["cpu_s_per_strain"], group[f"{q}_total"],
-                  FAMILIES.get(family, "P"), ms=9 if configured else 5,
+                  FAMILIES.get(family, "P"), color=color, ms=9 if configured else 5,
                   mfc="none" if configured else None,
                   label=f"configuration '{family}'" if configured else family)
     front = rows[rows[f"{q}_pareto"]].sort_values("cpu_s_per_strain")
@@ -33,6 +35,10 @@ def panel(ax, rows, q):
             label="Pareto front")
     ax.set_xlabel("CPU s per unit strain")
     ax.set_ylabel(f"relative error of {QUANTITIES[q]}")
+    for axis in (ax.xaxis, ax.yaxis):  # ranges within a decade: label 1, 2, 5 of each
+        axis.set_major_formatter(FormatStrFormatter("%g"))
+        axis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+        axis.set_minor_formatter(FormatStrFormatter("%g"))
 
 
 def main():
@@ -50,6 +56,7 @@ def main():
             panel(ax, rows, q)
             ax.set_title(case.replace("_", " "), fontsize=8)
     axes[0][0].legend(fontsize=6)
+    fig.tight_layout()
     columns = (["case", "family", "families", "label", "cpu_s_per_strain", "wall_s"] +
                [f"{q}_{part}" for q in QUANTITIES for part in PARTS + ("total", "pareto")])
     caption = ("Each point changes one setting of the base run (family); its error is the "

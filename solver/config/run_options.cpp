@@ -44,19 +44,39 @@ double parse_double(const std::string& s, bool& ok) {
   return v;
 }
 
+// The number `s` if it is one within `r`; else the error naming the key.
+double number_in(const std::string& key, const std::string& allowed, Range r,
+                 const std::string& s) {
+  bool ok;
+  const double v = parse_double(s, ok);
+  if (!ok || !r.contains(v))
+    bad_value(key, allowed, s);
+  return v;
+}
+
 Param real(const std::string& key, Range r, std::function<double&(RunOptions&)> ref,
            const std::string& help) {
   std::string allowed = range_text(r, false);
   return {key, allowed, help,
           [=](RunOptions& o, const std::string& s) {
-            bool ok;
-            double v = parse_double(s, ok);
-            if (!ok || !r.contains(v))
-              bad_value(key, allowed, s);
-            ref(o) = v;
+            ref(o) = number_in(key, allowed, r, s);
           },
           [=](const RunOptions& o) {
             return format_number(ref(const_cast<RunOptions&>(o)));
+          }};
+}
+
+// 'auto' (stored as `automatic`, a value the range excludes) or a number in `r`.
+Param auto_or_real(const std::string& key, Range r, double automatic,
+                   std::function<double&(RunOptions&)> ref, const std::string& help) {
+  std::string allowed = "'auto' or " + range_text(r, false);
+  return {key, allowed, help,
+          [=](RunOptions& o, const std::string& s) {
+            ref(o) = s == "auto" ? automatic : number_in(key, allowed, r, s);
+          },
+          [=](const RunOptions& o) {
+            const double v = ref(const_cast<RunOptions&>(o));
+            return v == automatic ? "auto" : format_number(v);
           }};
 }
 
@@ -156,45 +176,6 @@ namespace {
 
 constexpr double kBig = 1e5;
 
-Param time_step() {
-  const std::string allowed = "'auto' or a number in (0, 1]";
-  return {
-      "dt", allowed,
-      "time step in strain units; auto = dt_safety * Ca * h / (1 + 4 membrane.bending "
-      "/ h^2), h the mean edge of the mesh",
-      [=](RunOptions& o, const std::string& s) {
-        if (s == "auto")
-          return void(o.dt = 0);
-        bool ok;
-        double v = parse_double(s, ok);
-        if (!ok || !(v > 0 && v <= 1))
-          bad_value("dt", allowed, s);
-        o.dt = v;
-      },
-      [](const RunOptions& o) { return o.dt > 0 ? format_number(o.dt) : "auto"; }};
-}
-
-Param ewald_xi() {
-  const std::string allowed = "'auto' or a number in (0, 100]";
-  return {"ewald.xi", allowed,
-          "Ewald splitting parameter; auto: for spectral the xi of least modelled cost "
-          "(real-space pairs against grid FFTs), for direct the cost balance of the two "
-          "sums, for patches their balance at equal cost per term (which holds the "
-          "coarse-graining error)",
-          [=](RunOptions& o, const std::string& s) {
-            if (s == "auto")
-              return void(o.ewald.xi = 0);
-            bool ok;
-            double v = parse_double(s, ok);
-            if (!ok || !(v > 0 && v <= 100))
-              bad_value("ewald.xi", allowed, s);
-            o.ewald.xi = v;
-          },
-          [](const RunOptions& o) {
-            return o.ewald.xi > 0 ? format_number(o.ewald.xi) : "auto";
-          }};
-}
-
 Param load_mapping() {
   const std::string allowed = "one of {lumped, consistent}";
   return {"membrane.load", allowed,
@@ -230,7 +211,11 @@ const std::vector<Param>& parameters() {
           "mesh_level", {1, 5, false, false},
           [](RunOptions& o) -> int& { return o.mesh_level; },
           "icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles per capsule"),
-      time_step(),
+      auto_or_real(
+          "dt", {0, 1, true, false}, 0, [](RunOptions& o) -> double& { return o.dt; },
+          "time step in strain units; auto = dt_safety * Ca * h / (1 + 4 "
+          "membrane.bending "
+          "/ h^2), h the mean edge of the mesh"),
       real(
           "dt_safety", {0, 2, true, false},
           [](RunOptions& o) -> double& { return o.dt_safety; },
@@ -241,12 +226,13 @@ const std::vector<Param>& parameters() {
           "heun (explicit 2nd-order Runge-Kutta, eq. 3.2: stable for dt ~ Ca h) or imex "
           "(linearly implicit 2nd-order Rosenbrock-W: each capsule's own membrane "
           "stiffness implicit, the rest explicit; steps far beyond Ca h)"),
-      real(
-          "time.tolerance", {0, 1, false, false},
+      auto_or_real(
+          "time.tolerance", {0, 1, false, false}, kAutomatic,
           [](RunOptions& o) -> double& { return o.time.tolerance; },
           "adaptive step: the largest node position error one step may make, in capsule "
           "radii (embedded estimate); dt is then only the first step. 0 = a fixed step "
-          "dt"),
+          "dt; auto = 0 for heun, for imex the tolerance whose time error stays below a "
+          "tenth of the mesh error at mesh_level (docs/method.md)"),
       real(
           "t_end", {0, kBig, true, false},
           [](RunOptions& o) -> double& { return o.t_end; },
@@ -289,11 +275,18 @@ const std::vector<Param>& parameters() {
           "quadrature.singular_points", {2, 64, false, false},
           [](RunOptions& o) -> int& { return o.quadrature.singular_points; },
           "Gauss-Legendre points of the polar rule at a vertex"),
-      real(
-          "ewald.tolerance", {1e-12, 1e-2, false, false},
+      auto_or_real(
+          "ewald.tolerance", {1e-12, 1e-2, false, false}, kAutomatic,
           [](RunOptions& o) -> double& { return o.ewald.tolerance; },
-          "truncation tolerance of the Ewald sums (phi > 0)"),
-      ewald_xi(),
+          "truncation tolerance of the Ewald sums (phi > 0); auto = the tolerance whose "
+          "error stays below a tenth of the mesh error at mesh_level (docs/method.md)"),
+      auto_or_real(
+          "ewald.xi", {0, 100, true, false}, 0,
+          [](RunOptions& o) -> double& { return o.ewald.xi; },
+          "Ewald splitting parameter; auto: for spectral the xi of least modelled cost "
+          "(real-space pairs against grid FFTs), for direct the cost balance of the two "
+          "sums, for patches their balance at equal cost per term (which holds the "
+          "coarse-graining error)"),
       integer(
           "ewald.patch_level", {0, 3, false, false},
           [](RunOptions& o) -> int& { return o.ewald.patch_level; },

@@ -20,6 +20,9 @@ struct OutputOptions {
   double snapshot_interval = 2.0;   // strain between mesh snapshots (0: none)
 };
 
+// The value of a tolerance given as 'auto' (run/automatic_settings.hpp resolves it).
+inline constexpr double kAutomatic = -1;
+
 struct EwaldOptions {
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; 0 = automatic ("auto", cost-balanced)
@@ -44,7 +47,7 @@ struct RunOptions {
   int capsules = 1;                // capsules per periodic box
   int mesh_level = 3;              // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
   double dt = 0.0;                 // time step in strain units; 0 = automatic ("auto")
-  double dt_safety = 0.5;          // C in the automatic step dt = C Ca h
+  double dt_safety = 1.0;          // C in the automatic step dt = C Ca h (limit ~1.5)
   TimeOptions time;                // scheme and adaptive step
   double t_end = 20.0;             // end of the run, gammadot t
   double t_avg_start = 10.0;       // start of the averaging window, gammadot t

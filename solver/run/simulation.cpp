@@ -13,6 +13,7 @@
 #include "io/timeseries_file.hpp"
 #include "io/xdmf_snapshot.hpp"
 #include "mesh/surface_geometry.hpp"
+#include "run/automatic_settings.hpp"
 #include "run/flow_factory.hpp"
 #include "run/summary.hpp"
 
@@ -536,6 +537,7 @@ void run_simulation(const RunRequest& request) {
     checkpoint = read_checkpoint(request.outdir + "/checkpoint.h5");
     o = resume_options(request.outdir, checkpoint, request.resume_overrides);
   }
+  resolve_automatic_settings(o, request.quiet);
   if (o.threads > 0)
     omp_set_num_threads(o.threads);
   // Built first: a backend that cannot run the options stops the run before anything

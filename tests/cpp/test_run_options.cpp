@@ -1,5 +1,7 @@
 #include "config/run_options.hpp"
+#include "run/automatic_settings.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 using namespace capsim;
@@ -84,4 +86,33 @@ TEST_CASE("config: the resolved YAML reads back to the same options", "[config]"
   RunOptions back = parse_run_options(to_yaml(o), {});
   CHECK(flat_values(back) == flat_values(o));
   CHECK_THAT(parameter_table_markdown(), Catch::Contains("`quadrature.far_ratio`"));
+}
+
+TEST_CASE("config: tolerances left to auto are resolved from the mesh level",
+          "[config]") {
+  RunOptions o = parse_run_options("ewald:\n  tolerance: auto\n",
+                                   {"time.tolerance=auto", "time.scheme=imex"});
+  CHECK(o.ewald.tolerance == kAutomatic);
+  const auto values = flat_values(o);
+  CHECK(std::find(values.begin(), values.end(),
+                  std::pair<std::string, std::string>("ewald.tolerance", "auto")) !=
+        values.end());
+  CHECK_THAT(
+      error_of("", {"ewald.tolerance=0"}),
+      Catch::Contains("ewald.tolerance: must be 'auto' or a number in [1e-12, 0.01]"));
+  for (int level = 1; level <= 5; ++level) {
+    RunOptions r = o;
+    r.mesh_level = level;
+    resolve_automatic_settings(r, true);
+    // A finer mesh has a smaller error, so the tolerances tighten with the level.
+    CHECK(r.ewald.tolerance == automatic_ewald_tolerance(level));
+    CHECK(r.time.tolerance == automatic_time_tolerance(level));
+    if (level > 1) {
+      CHECK(automatic_ewald_tolerance(level) <= automatic_ewald_tolerance(level - 1));
+      CHECK(automatic_time_tolerance(level) < automatic_time_tolerance(level - 1));
+    }
+  }
+  RunOptions heun = parse_run_options("", {"time.tolerance=auto"});
+  resolve_automatic_settings(heun, true);
+  CHECK(heun.time.tolerance == 0); // Heun keeps its fixed step
 }

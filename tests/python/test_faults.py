@@ -23,7 +23,7 @@ import kill_resume_soak  # noqa: E402
 # Two capsules, a sample every step and a checkpoint every two steps: 78 rows, so the
 # time series grows by a second chunk of rows near gammadot t = 3.7 (about 1 s).
 CASE = {"method": "direct", "phi": 0.05, "capsules": 2, "mesh_level": 1, "t_end": 4.5,
-        "t_avg_start": 1, "output.sample_interval": 0.02,
+        "t_avg_start": 1, "dt_safety": 0.5, "output.sample_interval": 0.02,
         "output.checkpoint_interval": 0.1, "threads": 1}
 ARGS = kill_resume_soak.settings(CASE)
 

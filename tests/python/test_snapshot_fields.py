@@ -22,7 +22,7 @@ def series(tmp_path_factory):
     out = tmp_path_factory.mktemp("run") / "r"
     subprocess.run([str(CAPSIM), "run", "-q", "--set", "mesh_level=1", "--set", "ca=0.3",
                     "--set", "phi=0.2", "--set", f"capsules={CAPSULES}",
-                    "--set", "t_end=0.5", "--set", "t_avg_start=0.25",
+                    "--set", "t_end=0.5", "--set", "t_avg_start=0.25", "--set", "dt_safety=0.5",
                     "--set", "output.snapshot_interval=0.25", "-o", str(out)], check=True)
     steps = []
     with meshio.xdmf.TimeSeriesReader(out / "snapshots.xdmf") as reader:
