@@ -10,7 +10,9 @@ of every setting is split into four parts, each measured on its own:
   both runs still coincide (a suspension is chaotic, so later windows differ by more
   than the Ewald error);
 - time step: against a small step, over the same early window (the dilute limit, which is
-  steady, over its averaging window);
+  steady, over its averaging window), at the run's own sample times: a fixed step
+  samples at the step nearest each sample time, so the finely sampled reference is
+  interpolated there;
 - statistics: the standard error of the time average (analysis.statistics).
 
 The total is their root sum of squares. The cost of a setting is the CPU seconds per
@@ -108,11 +110,11 @@ def _suspension_plan(block):
     base = Setting("suspension", "base", s["ca"], s["phi"], b["mesh_level"], b["capsules"],
                    b["ewald_tolerance"], b["time"], b["t_end"], tuple(b["window"]),
                    s.get("seed", 1))
-    configurations = block.get("configurations", {}).values()
+    configurations = block.get("configurations", {})
 
     def values(key, own):  # a family's values, the base's, and those of configurations
         return list(dict.fromkeys([b[own]] + list(block[key]) +
-                                  [c[own] for c in configurations]))
+                                  [c[own] for c in configurations.values()]))
 
     points = [base]
     points += [replace(base, family="mesh", level=v) for v in values("mesh_levels",
@@ -123,7 +125,7 @@ def _suspension_plan(block):
     points += [replace(base, family="capsules", capsules=v) for v in block["capsules"]]
     # A window is a part of the base run: it costs no run of its own.
     points += [replace(base, family="window", window=tuple(w)) for w in block["windows"]]
-    for name, c in block.get("configurations", {}).items():
+    for name, c in configurations.items():
         points.append(replace(base, family=name, level=c["mesh_level"],
                               capsules=c["capsules"], ewald=c["ewald_tolerance"],
                               time=c["time"], t_end=c["window"][1],
@@ -240,16 +242,18 @@ def discretisation_errors(values_by_level):
     return errors, p
 
 
-def cost(run_dir):
-    """Wall and CPU seconds of a run and its CPU seconds per unit strain; NaN for a run
-    that was resumed (summary.json times only its last invocation)."""
+def run_facts(run_dir):
+    """How a run ended, its wall and CPU seconds and its CPU seconds per unit strain; the
+    times NaN for a run that was resumed (summary.json times only its last invocation)."""
     summary = read_summary(run_dir)
+    facts = {"ended": summary.get("ended", "t_end")}
     if summary.get("resumed", False):
         print(f"accuracy: {run_dir} was resumed, so its cost is unknown: run it again "
               "from the start (delete its folder) to time it", file=sys.stderr)
-        return {"wall_s": math.nan, "cpu_s": math.nan, "cpu_s_per_strain": math.nan}
-    return {"wall_s": float(summary["wall_seconds"]), "cpu_s": float(summary["cpu_seconds"]),
-            "cpu_s_per_strain": float(summary["cpu_seconds"]) / float(summary["t_end"])}
+        return facts | {"wall_s": math.nan, "cpu_s": math.nan, "cpu_s_per_strain": math.nan}
+    cpu = float(summary["cpu_seconds"])
+    return facts | {"wall_s": float(summary["wall_seconds"]), "cpu_s": cpu,
+                    "cpu_s_per_strain": cpu / float(summary["t_end"])}
 
 
 def pareto_front(cost_values, errors):
@@ -310,9 +314,8 @@ def error_table(block, results):
             row = {"case": case, "family": p.family, "families": p.family, "label": p.label,
                    "ca": p.ca, "phi": p.phi, "mesh_level": p.level, "capsules": p.capsules,
                    "ewald_tolerance": p.ewald, "time": p.time, "t_end": p.t_end,
-                   "window_start": p.window[0], "window_end": p.window[1], "run": p.run,
-                   "ended": read_summary(Path(results) / p.run).get("ended", "t_end")}
-            row |= cost(Path(results) / p.run)
+                   "window_start": p.window[0], "window_end": p.window[1], "run": p.run}
+            row |= run_facts(Path(results) / p.run)
             for q in QUANTITIES:
                 value = own[p]
                 split = {"disc": parts["disc"].get(p.level, {}).get(q, math.nan),
