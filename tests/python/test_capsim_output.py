@@ -2,9 +2,7 @@
 summary.json, and every dataset that snapshots.xdmf names exists with its stated shape."""
 
 import math
-import subprocess
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import h5py
 import pytest
@@ -12,19 +10,11 @@ import pytest
 from analysis.read_run import read_summary, read_timeseries, time_average
 from analysis.rheology import stress_factor
 
-ROOT = Path(__file__).resolve().parents[2]
-CAPSIM = ROOT / "build" / "capsim"
-
 
 @pytest.fixture(scope="module")
-def run_dir(tmp_path_factory):
-    if not CAPSIM.exists():
-        pytest.fail(f"{CAPSIM} is missing: build first (bash scripts/setup.sh)")
-    out = tmp_path_factory.mktemp("run") / "r"
-    subprocess.run([str(CAPSIM), "run", "-q", "--set", "mesh_level=1", "--set", "ca=0.3",
-                    "--set", "t_end=1", "--set", "t_avg_start=0.5",
-                    "--set", "output.snapshot_interval=0.5", "-o", str(out)], check=True)
-    return out
+def run_dir(capsim_run):
+    return capsim_run("run", "mesh_level=1", "ca=0.3", "t_end=1", "t_avg_start=0.5",
+                      "output.snapshot_interval=0.5")
 
 
 def test_python_averages_match_the_summary(run_dir):

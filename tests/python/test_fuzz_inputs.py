@@ -477,15 +477,10 @@ def all_cases(keys, run_yaml):
 
 
 @pytest.fixture(scope="module")
-def existing_run(tmp_path_factory):
+def existing_run(capsim_run):
     """A finished tiny run: the folder that no case may change."""
-    if not CAPSIM.exists():
-        pytest.fail(f"{CAPSIM} is missing: build first (bash scripts/setup.sh)")
-    out = tmp_path_factory.mktemp("existing") / "run"
-    subprocess.run([str(CAPSIM), "run", "-q", "--set", "mesh_level=1", "--set", "t_end=0.1",
-                    "--set", "t_avg_start=0", "--set", "output.snapshot_interval=0.1",
-                    "-o", str(out)], check=True)
-    return out
+    return capsim_run("existing", "mesh_level=1", "t_end=0.1", "t_avg_start=0",
+                      "output.snapshot_interval=0.1")
 
 
 def binaries():

@@ -2,28 +2,19 @@
 dilatation) as a third-party XDMF reader (meshio) sees them, checked against what they
 must be: zero load on the undeformed spheres, and no net membrane force on a capsule."""
 
-import subprocess
-from pathlib import Path
-
 import h5py
 import meshio
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-CAPSIM = ROOT / "build" / "capsim"
 CAPSULES, NODES = 2, 42  # mesh level 1: 42 nodes, 80 triangles per capsule
 
 
 @pytest.fixture(scope="module")
-def series(tmp_path_factory):
-    if not CAPSIM.exists():
-        pytest.fail(f"{CAPSIM} is missing: build first (bash scripts/setup.sh)")
-    out = tmp_path_factory.mktemp("run") / "r"
-    subprocess.run([str(CAPSIM), "run", "-q", "--set", "mesh_level=1", "--set", "ca=0.3",
-                    "--set", "phi=0.2", "--set", f"capsules={CAPSULES}",
-                    "--set", "t_end=0.5", "--set", "t_avg_start=0.25", "--set", "dt_safety=0.5",
-                    "--set", "output.snapshot_interval=0.25", "-o", str(out)], check=True)
+def series(capsim_run):
+    out = capsim_run("series", "mesh_level=1", "ca=0.3", "phi=0.2", f"capsules={CAPSULES}",
+                     "t_end=0.5", "t_avg_start=0.25", "dt_safety=0.5",
+                     "output.snapshot_interval=0.25")
     steps = []
     with meshio.xdmf.TimeSeriesReader(out / "snapshots.xdmf") as reader:
         _, cells = reader.read_points_cells()
