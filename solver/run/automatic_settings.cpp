@@ -1,5 +1,7 @@
 #include "run/automatic_settings.hpp"
 
+#include "dynamics/time_schemes.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -54,8 +56,9 @@ void resolve_automatic_settings(RunOptions& o, bool quiet) {
                    o.ewald.tolerance, o.mesh_level);
   }
   if (o.time.tolerance == kAutomatic) {
-    o.time.tolerance =
-        o.time.scheme == "imex" ? automatic_time_tolerance(o.mesh_level) : 0;
+    o.time.tolerance = parse_time_scheme(o.time.scheme) == TimeScheme::imex
+                           ? automatic_time_tolerance(o.mesh_level)
+                           : 0;
     if (!quiet)
       std::fprintf(stderr, "capsim: time.tolerance auto = %.3g (%s, mesh level %d)\n",
                    o.time.tolerance, o.time.scheme.c_str(), o.mesh_level);
