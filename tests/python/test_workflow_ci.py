@@ -40,6 +40,16 @@ def test_ci_workflow_and_check(tmp_path):
     assert "this run (config/ci.yaml)" in comparison
     assert "not in this configuration" in comparison and "Rule: a value agrees" in comparison
     assert (figures / "paper_comparison.csv").stat().st_size > 0
+    # A run two studies need is made once: the mesh study's coarse run and the box-size
+    # study's M = 2, seed 1 are the grid's point (Ca 0.4, phi 0.2, M 2, level 1, seed 1);
+    # the initial-position runs (t_end 0.4, not 0.3) are their own.
+    results = tmp_path / "results"
+    shared = "ca0.4_phi0.2_M2_level1_seed1"
+    assert (results / "grid" / shared / "summary.json").exists()
+    assert not (results / "mesh" / shared).exists()
+    assert not (results / "boxsize" / shared).exists()
+    assert (results / "initial" / shared / "summary.json").exists()
+    assert f"grid/{shared}" in (results / "mesh" / "table.csv").read_text()
     report = (tmp_path / "results" / "check" / "report.md").read_text()
     assert "0 failed" in report
     # Nothing is left to do: a second invocation runs no job.

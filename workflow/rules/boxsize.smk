@@ -3,10 +3,10 @@
 BOXSIZE = config["boxsize"]
 
 
-def boxsize_runs():
-    return [run_summary("boxsize", ca=BOXSIZE["ca"], phi=BOXSIZE["phi"], M=m,
-                        level=BOXSIZE["mesh_level"], seed=seed)
+def boxsize_keys():
+    return [dict(ca=BOXSIZE["ca"], phi=BOXSIZE["phi"], M=m, level=BOXSIZE["mesh_level"],
+                 seed=seed)
             for m in BOXSIZE["capsules"] for seed in BOXSIZE["seeds"]]
 
 
-STUDY_RUNS["boxsize"] = boxsize_runs
+STUDY_KEYS["boxsize"] = boxsize_keys

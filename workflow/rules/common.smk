@@ -1,7 +1,8 @@
 # The workflow's functions and shared names, apart from its rules (as Snakemake's linter
 # wants). A suspension run folder names all that distinguishes the run:
 #   results/<study>/ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>/
-# and a dilute run folder results/dilute/ca<Ca>_level<level>/.
+# and a dilute run folder results/dilute/ca<Ca>_level<level>/. A run that two studies
+# both need is made once, in the folder of the first of them in SUSPENSION_STUDIES.
 import functools
 from modulefinder import ModuleFinder
 
@@ -18,15 +19,41 @@ wildcard_constraints:
     seed=r"\d+",
 
 
-# Filled in by each study: study -> function returning its run summaries (and, for those
-# that include the dilute limit, the dilute summaries averaged over their own window).
-STUDY_RUNS = {}
+# Filled in by each study: study -> function returning the keys (ca, phi, M, level, seed)
+# of its runs, and for those that include the dilute limit a function returning the
+# dilute summaries (averaged over their own window).
+STUDY_KEYS = {}
 STUDY_DILUTE = {}
 
 
+def same_runs(study, other):
+    """Whether a run of `other` with the same keys is the run `study` asks for: the run
+    folder holds everything else of the study block that goes to capsim."""
+    settings = ("t_end", "snapshot_interval")
+    return all(config[study].get(k) == config[other].get(k) for k in settings)
+
+
+@functools.cache
+def study_run_names(study):
+    return frozenset(RUN_NAME.format(**keys) for keys in STUDY_KEYS[study]())
+
+
 def run_summary(study, **keys):
-    """The summary.json of one run of `study` (keys: ca, phi, M, level, seed)."""
-    return os.path.join("results", study, RUN_NAME.format(**keys), "summary.json")
+    """The summary.json of one run of `study` (keys: ca, phi, M, level, seed). Where an
+    earlier study of SUSPENSION_STUDIES makes the same run (the same keys, t_end and
+    snapshot interval: the mesh study's Table 1 case is often a grid point, the initial
+    positions' runs some of the box-size study's), the summary of that study's run: it is
+    run once, and a changed study block never redoes the other's runs."""
+    name = RUN_NAME.format(**keys)
+    for owner in SUSPENSION_STUDIES[: SUSPENSION_STUDIES.index(study)]:
+        if same_runs(study, owner) and name in study_run_names(owner):
+            return os.path.join("results", owner, name, "summary.json")
+    return os.path.join("results", study, name, "summary.json")
+
+
+def study_runs(study):
+    """The summaries of every run of `study`, in its order."""
+    return [run_summary(study, **keys) for keys in STUDY_KEYS[study]()]
 
 
 def dilute_summary(ca, level):

@@ -3,7 +3,7 @@
 # and .csv. The scripts read only the tables and run folders named here.
 FIGURE_INPUTS = {
     "fig01": multipole_tables,
-    "fig02": snapshot_runs,
+    "fig02": lambda: study_runs("snapshots"),
     "fig03": lambda: ["results/grid/table.csv"],
     "fig04": lambda: ["results/grid/table.csv"],
     "fig05": lambda: ["results/grid/table.csv"],
@@ -12,7 +12,7 @@ FIGURE_INPUTS = {
     "fig08": lambda: ["results/grid/table.csv"],
     "fig09": lambda: ["results/grid/table.csv"],
     "fig10": lambda: ["results/grid/table.csv"],
-    "fig11": initial_runs,
+    "fig11": lambda: study_runs("initial"),
     "fig12": lambda: ["results/boxsize/table.csv"],
 }
 FIGURE_OUTPUTS = expand("results/figures/{name}.{ext}", name=FIGURE_INPUTS,

@@ -4,9 +4,8 @@
 GRID = config["grid"]
 
 
-def grid_runs():
-    return [run_summary("grid", ca=ca, phi=phi, M=GRID["capsules"], level=GRID["mesh_level"],
-                        seed=seed)
+def grid_keys():
+    return [dict(ca=ca, phi=phi, M=GRID["capsules"], level=GRID["mesh_level"], seed=seed)
             for ca in GRID["ca"] for phi in GRID["phi"] for seed in GRID["seeds"]]
 
 
@@ -14,5 +13,5 @@ def grid_dilute():
     return [dilute_summary(ca, GRID["mesh_level"]) for ca in GRID["ca"]]
 
 
-STUDY_RUNS["grid"] = grid_runs
+STUDY_KEYS["grid"] = grid_keys
 STUDY_DILUTE["grid"] = grid_dilute

@@ -3,10 +3,10 @@
 INITIAL = config["initial"]
 
 
-def initial_runs():
-    return [run_summary("initial", ca=INITIAL["ca"], phi=INITIAL["phi"],
-                        M=INITIAL["capsules"], level=INITIAL["mesh_level"], seed=seed)
+def initial_keys():
+    return [dict(ca=INITIAL["ca"], phi=INITIAL["phi"], M=INITIAL["capsules"],
+                 level=INITIAL["mesh_level"], seed=seed)
             for seed in INITIAL["seeds"]]
 
 
-STUDY_RUNS["initial"] = initial_runs
+STUDY_KEYS["initial"] = initial_keys

@@ -4,12 +4,11 @@
 MESH = config["mesh"]
 
 
-def mesh_runs():
+def mesh_keys():
     finest = max(MESH["mesh_levels"])
-    return [run_summary("mesh", ca=MESH["ca"], phi=MESH["phi"], M=MESH["capsules"],
-                        level=level, seed=seed)
+    return [dict(ca=MESH["ca"], phi=MESH["phi"], M=MESH["capsules"], level=level, seed=seed)
             for level in MESH["mesh_levels"]
             for seed in (MESH["seeds"] if level == finest else MESH["seeds"][:1])]
 
 
-STUDY_RUNS["mesh"] = mesh_runs
+STUDY_KEYS["mesh"] = mesh_keys

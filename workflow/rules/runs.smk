@@ -49,7 +49,7 @@ rule run_table:
         "results/{study}/table.csv",
     input:
         code=analysis_module("tables"),
-        suspensions=lambda wc: STUDY_RUNS[wc.study](),
+        suspensions=lambda wc: study_runs(wc.study),
         dilute=lambda wc: STUDY_DILUTE.get(wc.study, lambda: [])(),
     log:
         "results/logs/{study}/table.log",

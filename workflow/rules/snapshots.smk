@@ -3,10 +3,10 @@
 SNAPSHOTS = config["snapshots"]
 
 
-def snapshot_runs():
-    return [run_summary("snapshots", ca=SNAPSHOTS["ca"], phi=phi, M=SNAPSHOTS["capsules"],
-                        level=SNAPSHOTS["mesh_level"], seed=SNAPSHOTS["seed"])
+def snapshot_keys():
+    return [dict(ca=SNAPSHOTS["ca"], phi=phi, M=SNAPSHOTS["capsules"],
+                 level=SNAPSHOTS["mesh_level"], seed=SNAPSHOTS["seed"])
             for phi in SNAPSHOTS["phi"]]
 
 
-STUDY_RUNS["snapshots"] = snapshot_runs
+STUDY_KEYS["snapshots"] = snapshot_keys
