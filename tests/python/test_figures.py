@@ -124,14 +124,22 @@ def test_fig10_ratio_is_one_plus_a2_over_a1_phi(grid_table, tmp_path):
     assert row["ratio"] == pytest.approx(1 + a2 / a1 * 0.2)
 
 
-def test_fig03_slope(grid_table, tmp_path):
-    rows = run_figure("fig03", tmp_path, grid_table)
-    assert select(rows, ca=0.1, phi=0.2)["slope"].iloc[0] == pytest.approx(0.3)
+@pytest.mark.parametrize("name, slope", [("fig03", 0.3), ("fig04", -10.0)])
+def test_fig03_fig04_slope_and_its_standard_error(name, slope, grid_table, tmp_path):
+    # <D> and <theta_D> are exact lines in phi with equal errors SE: the weighted fit has
+    # chi^2 = 0 and the slope's error SE / sqrt(sum (phi - mean phi)^2).
+    rows = run_figure(name, tmp_path, grid_table)
+    phi = np.array([0.0] + PHIS)
+    (row,) = select(rows, ca=0.1, phi=0.2).to_dict("records")
+    assert row["slope"] == pytest.approx(slope)
+    assert row["slope_se"] == pytest.approx(SE / np.sqrt(np.sum((phi - phi.mean()) ** 2)))
 
 
 def test_figure_data_carry_the_standard_errors(grid_table, tmp_path):
     rows = run_figure("fig03", tmp_path, grid_table)
-    assert (rows["D_se"] == SE).all()
+    assert (rows[["D_se", "D_std_se"]] == SE).all().all()
+    rows = run_figure("fig04", tmp_path, grid_table)
+    assert (rows[["theta_D_se_deg", "theta_D_std_se_deg"]] == SE).all().all()
     rows = run_figure("fig09", tmp_path, grid_table)
     assert (rows[["S12_se", "S12_principal_se", "theta_S_se_deg"]] == SE).all().all()
     rows = run_figure("fig06", tmp_path, grid_table)
