@@ -192,9 +192,29 @@ def test_table1_prints_value_and_standard_error(tmp_path):
     assert "| 80 | 0.36000 +- 0.0026 |" in text
     assert "| 320 (average): reference | 0.38000 +- 0.043 | - |" in text
     assert "standard deviation of the cases" in text.lower()
-    ref = select(read_table(tmp_path / "table1.csv"), seed="mean").iloc[0]
+    table = read_table(tmp_path / "table1.csv")
+    ref = select(table, seed="mean").iloc[0]
     assert ref["D_se"] == pytest.approx(0.13 / 3)
     assert ref["D_std"] == pytest.approx(0.01 * math.sqrt(2 / 3))
+    # eps_D = |x / r - 1|, r = 0.38 the mean of the cases: the coarse run is independent of
+    # r, so se^2 = (se_x / r)^2 + (x se_r / r^2)^2; case 1 (0.37) is one of the three
+    # averaged in r, so d/dx_1 = 1/r - x_1 / (3 r^2) and d/dx_j = -x_1 / (3 r^2). The
+    # central differences of the propagation differ from the derivatives by
+    # O((se_r / r)^2), 1 % here; leaving out the correlation would be 13 % off.
+    r, r_se = 0.38, 0.13 / 3
+    coarse = select(table, N_E=80).iloc[0]
+    assert coarse["eps_D"] == pytest.approx(0.02 / r)
+    assert coarse["eps_D_se"] == pytest.approx(math.hypot(0.0026 / r, 0.36 * r_se / r**2),
+                                               rel=0.02)
+    case = select(table, N_E=320, seed=1).iloc[0]
+    terms = [(1 / r - 0.37 / (3 * r**2)) * 0.03]
+    terms += [0.37 / (3 * r**2) * e for e in (0.04, 0.12)]
+    assert case["eps_D_se"] == pytest.approx(math.sqrt(np.sum(np.square(terms))), rel=0.02)
+    # mu_sp is the same in every run (eps_mu = 0), each with the error SE.
+    assert coarse["eps_mu"] == pytest.approx(0, abs=1e-12)
+    assert coarse["eps_mu_se"] == pytest.approx(
+        math.hypot(SE, SE / math.sqrt(3)) / coarse["mu_sp"], rel=1e-4)
+    assert f"| 80 | 0.36000 +- 0.0026 | 0.0526 +- {coarse['eps_D_se']:.2g} |" in text
 
 
 def write_initial_run(run_dir, seed, d):
