@@ -7,7 +7,7 @@ Defaults follow the paper: averages from gammadot*t_s = 10 to the end of the run
 import numpy as np
 
 from analysis.read_run import time_average
-from analysis.statistics import standard_error
+from analysis.statistics import spread_standard_error, standard_error
 from analysis.stresslet import decomposition_gradients
 
 T_START = 10.0  # paper section 4.1: the average starts after gammadot*t = 10
@@ -23,8 +23,10 @@ def run_averages(ts, t_start=T_START, t_end=None):
 
     Means and standard deviations are over all (sample, capsule) pairs with
     t_start <= t <= t_end (eq. 4.1); the standard errors (_se) are those of the time
-    average of the capsule mean (analysis.statistics). Returns a dict: D, D_std, D_se,
-    theta_D_deg, theta_D_std_deg, theta_D_se_deg, principal_diff (<S1 - S2>),
+    average of the capsule mean (analysis.statistics), those of the standard deviations
+    (D_std_se, theta_D_std_se_deg) by spread_standard_error. Returns a dict: D, D_std,
+    D_se, D_std_se, theta_D_deg, theta_D_std_deg, theta_D_se_deg, theta_D_std_se_deg,
+    principal_diff (<S1 - S2>),
     theta_S_deg, stresslet (3x3 mean, Gs a^2), stresslet_se (3x3), normal_differences_se
     (of S_xx - S_yy and S_yy - S_zz), principal_diff_se, theta_S_se_deg,
     decomposition_se (dict: the standard errors of the right-hand sides of eqs. 4.14, 4.15
@@ -44,6 +46,8 @@ def run_averages(ts, t_start=T_START, t_end=None):
     out["count"] = count
     out["D_se"] = standard_error(ts["D"], time, t_start, t_end)
     out["theta_D_se_deg"] = standard_error(ts["theta_D_deg"], time, t_start, t_end)
+    out["D_std_se"] = spread_standard_error(ts["D"], time, t_start, t_end)
+    out["theta_D_std_se_deg"] = spread_standard_error(ts["theta_D_deg"], time, t_start, t_end)
     s = np.asarray(ts["stresslet"], dtype=float)
     out["stresslet_se"] = standard_error(s, time, t_start, t_end)
     differences = np.stack([s[..., 0, 0] - s[..., 1, 1], s[..., 1, 1] - s[..., 2, 2]], -1)

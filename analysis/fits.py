@@ -4,7 +4,7 @@ Krieger-Dougherty relation (paper section 4.2, eqs. 4.6-4.8 and 4.11).
 The procedure of section 4.2: the first coefficient (a1, b1) is the dilute-limit value
 ([mu], [N1] of one capsule in unbounded shear); the second (a2, b2) is the least-squares
 fit of (y - c1 phi) = c2 phi^2 over 0 <= phi <= 0.10. Also the observed order of mesh
-convergence of the dilute table.
+convergence of the dilute table, and the weighted straight lines of figures 3a and 4a.
 """
 
 import math
@@ -94,11 +94,28 @@ def observed_order(coarse, medium, fine):
     return math.log2(d1 / d2)
 
 
-def linear_fit(x, y):
-    """Intercept and slope of the least-squares line y = c0 + c1 x (figures 3a, 4a)."""
+def linear_fit(x, y, se=None):
+    """Intercept, slope and the slope's standard error of the line y = c0 + c1 x
+    (figures 3a, 4a): least squares weighted by the points' standard errors `se`
+    (weights 1/se^2).
+
+    The slope's error is the fit's, from the points' errors (the unscaled covariance),
+    times sqrt(chi^2 / (N - 2)) where that exceeds 1: the points then scatter about the line
+    more than their errors allow (the curve is not quite a line, or the errors are low),
+    and the scatter is the better measure. It is not scaled down below 1: over a few points
+    chi^2 scatters widely, and a small one would understate the error. Without `se`, or
+    when an error is not positive and finite, the fit is unweighted and the error NaN.
+    """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if x.size < 2:
-        return float(y[0]) if y.size else float("nan"), float("nan")
-    slope, intercept = np.polyfit(x, y, 1)
-    return float(intercept), float(slope)
+        return float(y[0]) if y.size else float("nan"), float("nan"), float("nan")
+    se = np.full(x.shape, np.nan) if se is None else np.asarray(se, dtype=float)
+    if not np.all(np.isfinite(se) & (se > 0)):
+        slope, intercept = np.polyfit(x, y, 1)
+        return float(intercept), float(slope), float("nan")
+    (slope, intercept), cov = np.polyfit(x, y, 1, w=1.0 / se, cov="unscaled")
+    dof = x.size - 2
+    chi2 = float(np.sum(((y - intercept - slope * x) / se) ** 2))
+    scale = max(1.0, chi2 / dof) if dof > 0 else 1.0
+    return float(intercept), float(slope), float(np.sqrt(cov[0, 0] * scale))

@@ -70,6 +70,30 @@ def standard_error(series, time, t_start, t_end):
     return float(errors[0]) if selected.ndim == 1 else errors.reshape(selected.shape[1:])
 
 
+def spread_standard_error(series, time, t_start, t_end):
+    """Standard error of the population standard deviation over all (sample, capsule)
+    values in [t_start, t_end] (sigma_D, sigma_theta_D of eq. 4.1), for a series of shape
+    (n,) or (n, M).
+
+    sigma^2 is itself a time average: that of v(t), the capsule mean at each sample of
+    (x - <x>)^2, with <x> the mean over the window. Its standard error is that of any time
+    average (standard_error of v), and sigma = sqrt(sigma^2) carries it to first order
+    divided by 2 sigma (the delta method). v is, up to a constant, the linearised series of
+    <x^2> - <x>^2 in the capsule means of x and x^2; the estimated <x> enters only to
+    second order (d sigma^2 / d<x> = 0 at the mean). The series v keeps the correlation
+    of the capsules and of successive samples, as for the mean. The series of each
+    sample's spread over capsules would not do: its mean leaves out how the capsule mean
+    moves in time, which sigma includes. 0 for a constant series.
+    """
+    series = np.asarray(series, dtype=float)
+    window = (np.asarray(time) >= t_start) & (np.asarray(time) <= t_end)
+    squared = (series - series[window].mean()) ** 2
+    sigma = math.sqrt(float(squared[window].mean()))
+    if sigma == 0.0:
+        return 0.0
+    return standard_error(squared, time, t_start, t_end) / (2.0 * sigma)
+
+
 def mean_of_runs_standard_error(errors):
     """Standard error of the mean of n independent runs' averages, from their standard
     errors: sqrt(sum se_i^2) / n. NaN if any is NaN (or none is given)."""

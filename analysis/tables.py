@@ -19,8 +19,9 @@ from analysis.rheology import rheology, stress_factor
 from analysis.stresslet import decomposition
 
 PARAMETERS = ("ca", "phi", "capsules", "seed", "mesh_level")
-COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "D_se",
+COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "D_se", "D_std_se",
                          "theta_D_deg", "theta_D_std_deg", "theta_D_se_deg",
+                         "theta_D_std_se_deg",
                          "principal_diff", "principal_diff_se", "theta_S_deg",
                          "theta_S_se_deg", "S_xx", "S_xy", "S_yy", "S_zz",
                          "mu_sp", "mu_sp_se", "N1", "N1_se", "N2", "N2_se", "S12", "S12_se",
@@ -54,8 +55,9 @@ def run_row(run_dir, t_start=None, t_end=None):
     row = {"ca": ca, "phi": phi, "capsules": int(p["capsules"]), "seed": int(p["seed"]),
            "mesh_level": int(p["mesh_level"]), "t_start": avg["t_start"],
            "t_end": avg["t_end"], "count": avg["count"]}
-    for key in ("D", "D_std", "D_se", "theta_D_deg", "theta_D_std_deg", "theta_D_se_deg",
-                "principal_diff", "principal_diff_se", "theta_S_deg", "theta_S_se_deg"):
+    for key in ("D", "D_std", "D_se", "D_std_se", "theta_D_deg", "theta_D_std_deg",
+                "theta_D_se_deg", "theta_D_std_se_deg", "principal_diff",
+                "principal_diff_se", "theta_S_deg", "theta_S_se_deg"):
         row[key] = float(avg[key])
     row.update({"S_xx": s[0, 0], "S_xy": s[0, 1], "S_yy": s[1, 1], "S_zz": s[2, 2]})
     row.update(rheology(s, phi, ca))

@@ -65,6 +65,7 @@ def test_run_averages_from_t_s():
     assert avg["count"] == 22
     assert avg["t_end"] == 20.0
     assert avg["theta_D_std_deg"] == pytest.approx(0.0)
+    assert avg["theta_D_std_se_deg"] == 0.0 and avg["D_std_se"] > 0
     assert avg["stresslet"][0, 1] == pytest.approx(1.0)
     var = np.var(np.concatenate([0.01 * np.arange(10, 21), 0.01 * np.arange(10, 21) + 0.1]))
     assert avg["D_std"] == pytest.approx(math.sqrt(var))

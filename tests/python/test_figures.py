@@ -124,14 +124,22 @@ def test_fig10_ratio_is_one_plus_a2_over_a1_phi(grid_table, tmp_path):
     assert row["ratio"] == pytest.approx(1 + a2 / a1 * 0.2)
 
 
-def test_fig03_slope(grid_table, tmp_path):
-    rows = run_figure("fig03", tmp_path, grid_table)
-    assert select(rows, ca=0.1, phi=0.2)["slope"].iloc[0] == pytest.approx(0.3)
+@pytest.mark.parametrize("name, slope", [("fig03", 0.3), ("fig04", -10.0)])
+def test_fig03_fig04_slope_and_its_standard_error(name, slope, grid_table, tmp_path):
+    # <D> and <theta_D> are exact lines in phi with equal errors SE: the weighted fit has
+    # chi^2 = 0 and the slope's error SE / sqrt(sum (phi - mean phi)^2).
+    rows = run_figure(name, tmp_path, grid_table)
+    phi = np.array([0.0] + PHIS)
+    (row,) = select(rows, ca=0.1, phi=0.2).to_dict("records")
+    assert row["slope"] == pytest.approx(slope)
+    assert row["slope_se"] == pytest.approx(SE / np.sqrt(np.sum((phi - phi.mean()) ** 2)))
 
 
 def test_figure_data_carry_the_standard_errors(grid_table, tmp_path):
     rows = run_figure("fig03", tmp_path, grid_table)
-    assert (rows["D_se"] == SE).all()
+    assert (rows[["D_se", "D_std_se"]] == SE).all().all()
+    rows = run_figure("fig04", tmp_path, grid_table)
+    assert (rows[["theta_D_se_deg", "theta_D_std_se_deg"]] == SE).all().all()
     rows = run_figure("fig09", tmp_path, grid_table)
     assert (rows[["S12_se", "S12_principal_se", "theta_S_se_deg"]] == SE).all().all()
     rows = run_figure("fig06", tmp_path, grid_table)
@@ -184,9 +192,29 @@ def test_table1_prints_value_and_standard_error(tmp_path):
     assert "| 80 | 0.36000 +- 0.0026 |" in text
     assert "| 320 (average): reference | 0.38000 +- 0.043 | - |" in text
     assert "standard deviation of the cases" in text.lower()
-    ref = select(read_table(tmp_path / "table1.csv"), seed="mean").iloc[0]
+    table = read_table(tmp_path / "table1.csv")
+    ref = select(table, seed="mean").iloc[0]
     assert ref["D_se"] == pytest.approx(0.13 / 3)
     assert ref["D_std"] == pytest.approx(0.01 * math.sqrt(2 / 3))
+    # eps_D = |x / r - 1|, r = 0.38 the mean of the cases: the coarse run is independent of
+    # r, so se^2 = (se_x / r)^2 + (x se_r / r^2)^2; case 1 (0.37) is one of the three
+    # averaged in r, so d/dx_1 = 1/r - x_1 / (3 r^2) and d/dx_j = -x_1 / (3 r^2). The
+    # central differences of the propagation differ from the derivatives by
+    # O((se_r / r)^2), 1 % here; leaving out the correlation would be 13 % off.
+    r, r_se = 0.38, 0.13 / 3
+    coarse = select(table, N_E=80).iloc[0]
+    assert coarse["eps_D"] == pytest.approx(0.02 / r)
+    assert coarse["eps_D_se"] == pytest.approx(math.hypot(0.0026 / r, 0.36 * r_se / r**2),
+                                               rel=0.02)
+    case = select(table, N_E=320, seed=1).iloc[0]
+    terms = [(1 / r - 0.37 / (3 * r**2)) * 0.03]
+    terms += [0.37 / (3 * r**2) * e for e in (0.04, 0.12)]
+    assert case["eps_D_se"] == pytest.approx(math.sqrt(np.sum(np.square(terms))), rel=0.02)
+    # mu_sp is the same in every run (eps_mu = 0), each with the error SE.
+    assert coarse["eps_mu"] == pytest.approx(0, abs=1e-12)
+    assert coarse["eps_mu_se"] == pytest.approx(
+        math.hypot(SE, SE / math.sqrt(3)) / coarse["mu_sp"], rel=1e-4)
+    assert f"| 80 | 0.36000 +- 0.0026 | 0.0526 +- {coarse['eps_D_se']:.2g} |" in text
 
 
 def write_initial_run(run_dir, seed, d):

@@ -6,7 +6,7 @@ import pytest
 
 from analysis.statistics import (integrated_autocorrelation_time, mean_of_runs_standard_error,
                                  mean_standard_error, propagated_standard_error,
-                                 standard_error)
+                                 spread_standard_error, standard_error)
 
 
 def ar1(rng, phi, samples, series=1):
@@ -55,6 +55,35 @@ def test_standard_error_of_a_run_series_averages_capsules_first():
     assert standard_error(series, time, 10.0, 20.0) == pytest.approx(expected, rel=1e-12)
     tensor = np.broadcast_to(series[:, :, None, None], (400, 3, 3, 3))
     assert standard_error(tensor, time, 10.0, 20.0).shape == (3, 3)
+
+
+def test_spread_standard_error_of_uncorrelated_gaussian_samples():
+    # n samples of M independent capsules, all values iid N(0, s^2): the population
+    # standard deviation of the n M values has the standard error s / sqrt(2 n M) (large
+    # n). With M copies of one capsule the values are not independent: s / sqrt(2 n).
+    rng = np.random.default_rng(5)
+    n, m, s = 20_000, 4, 2.0
+    time = np.arange(n) * 0.05
+    x = s * rng.standard_normal((n, m))
+    assert spread_standard_error(x, time, 0.0, time[-1]) == pytest.approx(
+        s / np.sqrt(2 * n * m), rel=0.05)
+    same = np.repeat(x[:, :1], m, axis=1)
+    assert spread_standard_error(same, time, 0.0, time[-1]) == pytest.approx(
+        s / np.sqrt(2 * n), rel=0.05)
+    assert spread_standard_error(np.full((50, 3), 7.0), time[:50], 0.0, 10.0) == 0.0
+
+
+def test_spread_standard_error_matches_the_spread_of_standard_deviations():
+    # 1000 runs of 4 independent AR(1) capsules (tau_int 4.5), 200 samples: the standard
+    # error must describe how the standard deviation over (sample, capsule) values
+    # scatters from run to run (15 %: as for the mean, above; the naive error, without
+    # the correlation, is half of it).
+    rng = np.random.default_rng(6)
+    time = np.arange(200) * 0.05
+    runs = ar1(rng, 0.8, 200, series=4000).reshape(1000, 4, 200).transpose(0, 2, 1)
+    spread = runs.reshape(1000, -1).std(axis=1).std()
+    errors = np.array([spread_standard_error(x, time, 0.0, 10.0) for x in runs])
+    assert np.sqrt(np.mean(errors**2)) == pytest.approx(spread, rel=0.15)
 
 
 def test_mean_of_independent_runs():
