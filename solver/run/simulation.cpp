@@ -323,7 +323,7 @@ void RunLoop::finish_step() {
   for (int c = 0; c < o_.capsules; ++c)
     if (std::abs(d[c]) > std::abs(drift_[c]))
       drift_[c] = d[c];
-  check_state(mesh_.topology, o_.capsules, x_, time());
+  check_state(membrane_, o_.capsules, x_, time());
   if (flow_->periodic())
     keep_in_box();
 }
