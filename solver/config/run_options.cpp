@@ -96,17 +96,15 @@ Param integer(const std::string& key, Range r, std::function<int&(RunOptions&)> 
           }};
 }
 
-// The YAML 1.2 spellings of a boolean; printed back as true or false.
+// true or false, spelled so (as a choice key takes its names: one spelling each).
 Param boolean(const std::string& key, std::function<bool&(RunOptions&)> ref,
               const std::string& help) {
   const std::string allowed = "one of {true, false}";
   return {key, allowed, help,
           [=](RunOptions& o, const std::string& s) {
-            if (s == "true" || s == "True" || s == "TRUE")
-              return void(ref(o) = true);
-            if (s == "false" || s == "False" || s == "FALSE")
-              return void(ref(o) = false);
-            bad_value(key, allowed, s);
+            if (s != "true" && s != "false")
+              bad_value(key, allowed, s);
+            ref(o) = s == "true";
           },
           [=](const RunOptions& o) -> std::string {
             return ref(const_cast<RunOptions&>(o)) ? "true" : "false";

@@ -34,7 +34,7 @@ TEST_CASE("config: defaults and nested keys", "[config]") {
   CHECK(parse_run_options("membrane:\n  wrinkling: true\n", {}).wrinkling);
   CHECK_FALSE(parse_run_options("", {"membrane.wrinkling=false"}).wrinkling);
   // Written back as a boolean, so run.yaml and the checkpoint keep it.
-  const RunOptions w = parse_run_options("", {"membrane.wrinkling=True"});
+  const RunOptions w = parse_run_options("", {"membrane.wrinkling=true"});
   CHECK_THAT(to_yaml(w),
              Catch::Contains("membrane:\n") && Catch::Contains("  wrinkling: true\n"));
   CHECK(parse_run_options(to_yaml(w), {}).wrinkling);
@@ -66,6 +66,8 @@ TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
   CHECK_THAT(
       error_of("membrane:\n  wrinkling: 1\n"),
       Catch::Contains("membrane.wrinkling: must be one of {true, false}, got '1'"));
+  CHECK_THAT(error_of("", {"membrane.wrinkling=True"}),
+             Catch::Contains("membrane.wrinkling: must be one of {true, false}"));
   CHECK_THAT(error_of("ca: [1, 2]\n"), Catch::Contains("ca: must be a single value"));
   CHECK_THAT(error_of("ca: 0.2\n  bad indent: [\n"), Catch::Contains("not valid YAML"));
   CHECK_THAT(error_of("", {"ca"}), Catch::Contains("must be key=value"));
