@@ -76,8 +76,8 @@ std::string tension_text(double t) {
 }
 
 // What an inverted triangle says of its cause: with compressed elements next to it the
-// membrane buckled (docs/suspensions.md), which a smaller step does not cure; otherwise
-// the step was too large.
+// membrane buckled (docs/suspensions.md: halving dt moved no such fold); otherwise the
+// step was too large.
 std::string inversion_cause(const Membrane& membrane, const Vec3* xc, int triangle) {
   const std::vector<ElementTensions> t = membrane.neo_hookean_element_tensions(xc);
   const Compression all = compression(t);
@@ -92,8 +92,8 @@ std::string inversion_cause(const Membrane& membrane, const Vec3* xc, int triang
            ", none next to the inverted one" + kStepAdvice;
   s << ", down to T2 = " << tension_text(near.min_tension)
     << " next to the inverted one: the membrane buckles under compressive tension, "
-       "which nothing resists at the element scale without bending stiffness, and a "
-       "smaller dt does not cure it ("
+       "which nothing resists at the element scale without bending stiffness, and "
+       "which a smaller dt did not cure in the measured cases ("
     << (membrane.wrinkling() ? "membrane.wrinkling is on, so the membrane wrinkles "
                                "there; membrane.bending regularises the fold"
                              : "membrane.wrinkling or membrane.bending regularise it")

@@ -32,10 +32,11 @@ CAPSIM_HD TensionState tension_state(const SquaredStretches& s) {
 // From (L1 - L2) dL1 = L1 d i1 - d J^2 (which the two invariants' derivatives
 // d i1 = dL1 + dL2, d J^2 = L2 dL1 + L1 dL2 give):
 //   dL1/de_a = (L1 d i1/de_a - d J^2/de_a) / (L1 - L2).
-// The gap L1 - L2 exceeds L1 - L1^(-1/2) > 0 where the element is wrinkled, and
-// f'(L1) / (L1 - L2) stays below 2 as L1 -> 1 (both vanish like 3/2 (L1 - 1)), so the
-// force stays finite and tends to zero at the slack boundary; a gap of exactly zero
-// (L1 within round-off of 1) is that limit.
+// The gap L1 - L2 exceeds L1 - L1^(-1/2) > 0 where the element is wrinkled (no
+// isotropic state is: l1 = l2 >= 1 is taut, < 1 slack), so f'(L1) / (L1 - L2) stays
+// below f'(L1) / (L1 - L1^(-1/2)) = 1 / L1 even as both vanish at L1 -> 1, and the
+// force tends to zero at the slack border; a gap of exactly zero (L1 within round-off
+// of 1) is that limit.
 CAPSIM_HD double wrinkled_element(const ElementReference& ref, double gs,
                                   const SquaredStretches& s, Vec3 e1, Vec3 e2, double g11,
                                   double g12, double g22, Vec3 grad[3]) {
