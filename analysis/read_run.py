@@ -14,6 +14,12 @@ Layout of timeseries.h5 (one row per sample; M capsules; see solver/io/timeserie
     /capsule/stresslet        (n, M, 3, 3) in Gs a^2
     /capsule/centroid         (n, M, 3)
 
+and, in files of later versions only (OPTIONAL_CAPSULE_DATASETS):
+
+    /capsule/repelled_nodes       (n, M)   nodes within the repulsion range of others
+    /capsule/compressed_elements  (n, M)   elements with T2 (eq. 2.10) below -1e-3 Gs
+    /capsule/min_tension          (n, M)   the smallest T2 of any element, in Gs
+
 Conventions (axes, units, definitions) are those of docs/conventions.md.
 """
 
@@ -39,6 +45,13 @@ CAPSULE_DATASETS = {
     "centroid": (3,),
 }
 
+# Per-capsule datasets that older files lack: read under the same keys when present.
+OPTIONAL_CAPSULE_DATASETS = {
+    "repelled_nodes": (),
+    "compressed_elements": (),
+    "min_tension": (),
+}
+
 
 def read_summary(run_dir):
     """Return the run's summary.json as a dict."""
@@ -51,10 +64,11 @@ def read_timeseries(run_dir):
     """Return the run's timeseries.h5 as a dict of numpy arrays.
 
     Keys: "time" (n,), "step" (n,) int64, and the per-capsule series named by their dataset
-    ("D", "theta_D_deg", ..., "stresslet" (n, M, 3, 3), "centroid" (n, M, 3)). Any other
-    dataset in the file is included under its path without the leading slash
-    (e.g. "global/particle_stress"). Raises ValueError if a dataset is missing or its
-    shape does not match (n) and (n, M).
+    ("D", "theta_D_deg", ..., "stresslet" (n, M, 3, 3), "centroid" (n, M, 3)); those of
+    OPTIONAL_CAPSULE_DATASETS ("repelled_nodes", "compressed_elements", "min_tension")
+    only where the file has them (older files do not). Any other dataset in the file is
+    included under its path without the leading slash (e.g. "global/particle_stress").
+    Raises ValueError if a dataset is missing or its shape does not match (n) and (n, M).
     """
     path = Path(run_dir) / TIMESERIES_FILE
     out = {}
@@ -74,7 +88,10 @@ def read_timeseries(run_dir):
         if len(d_shape) != 2:
             raise ValueError(f"{path}: /capsule/D has shape {d_shape}, expected (n, M)")
         num_capsules = d_shape[1]
-        for key, tail in CAPSULE_DATASETS.items():
+        columns = dict(CAPSULE_DATASETS)
+        columns.update({key: tail for key, tail in OPTIONAL_CAPSULE_DATASETS.items()
+                        if "capsule/" + key in f})
+        for key, tail in columns.items():
             data = f["capsule/" + key][()]
             want = (n, num_capsules) + tail
             if data.shape != want:
@@ -82,7 +99,7 @@ def read_timeseries(run_dir):
                                  f"expected {want}")
             out[key] = data
 
-        known = {"time", "step"} | {"capsule/" + k for k in CAPSULE_DATASETS}
+        known = {"time", "step"} | {"capsule/" + k for k in columns}
 
         def add_extra(name, obj):
             if isinstance(obj, h5py.Dataset) and name not in known:

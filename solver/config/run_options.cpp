@@ -96,6 +96,21 @@ Param integer(const std::string& key, Range r, std::function<int&(RunOptions&)> 
           }};
 }
 
+// true or false, spelled so (as a choice key takes its names: one spelling each).
+Param boolean(const std::string& key, std::function<bool&(RunOptions&)> ref,
+              const std::string& help) {
+  const std::string allowed = "one of {true, false}";
+  return {key, allowed, help,
+          [=](RunOptions& o, const std::string& s) {
+            if (s != "true" && s != "false")
+              bad_value(key, allowed, s);
+            ref(o) = s == "true";
+          },
+          [=](const RunOptions& o) -> std::string {
+            return ref(const_cast<RunOptions&>(o)) ? "true" : "false";
+          }};
+}
+
 Param choice(const std::string& key, std::vector<std::string> names,
              std::function<std::string&(RunOptions&)> ref, const std::string& help) {
   std::string allowed = "one of {";
@@ -259,6 +274,12 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.bending; },
           "bending modulus kb / (Gs a^2) of a hinge energy that damps element-scale "
           "folds; 0 = none (the paper's membrane)"),
+      boolean(
+          "membrane.wrinkling", [](RunOptions& o) -> bool& { return o.wrinkling; },
+          "the relaxed (tension-field) neo-Hookean energy: equal to eq. 2.11 where both "
+          "principal tensions are >= 0, no compressive tension (a wrinkled element is "
+          "taut along its stretched direction only), none in a slack element; false = "
+          "eq. 2.11 (the paper's membrane)"),
       real(
           "quadrature.far_ratio", {1, 50, false, false},
           [](RunOptions& o) -> double& { return o.quadrature.far_ratio; },

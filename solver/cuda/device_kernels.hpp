@@ -3,7 +3,7 @@
 // declarations over device pointers, so that the host side (device_flow.cpp) is ordinary
 // C++. Every kernel is a loop over targets or sources around a host-device function of
 // membrane/ or stokes/; all run on the default stream, in order.
-#include "membrane/neo_hookean.hpp"
+#include "membrane/tension_field.hpp"
 #include "stokes/cell_bins.hpp"
 #include "stokes/element_integrals.hpp"
 #include "stokes/near_corrections.hpp"
@@ -31,9 +31,10 @@ struct TriangleBounds {
 };
 
 // --- membrane_kernels.cu ---------------------------------------------------------------
-// dW/dx of every element at its three corners (corner_grad[3 e + k]) and its area.
-void element_forces(const MeshView& mesh, double gs, const Vec3* x, Vec3* corner_grad,
-                    double* area);
+// dW/dx of every element at its three corners (corner_grad[3 e + k]) and its area; W
+// the neo-Hookean energy, or its relaxation with wrinkling (membrane_element).
+void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3* x,
+                    Vec3* corner_grad, double* area);
 // Per node: the sum of its corners' gradients; divided by the lumped node area (a third
 // of the adjacent triangles' areas) when lumped_load, which gives the traction q.
 void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,

@@ -1,8 +1,10 @@
 #include "dynamics/time_stepping.hpp"
 
+#include "membrane/compression.hpp"
 #include "mesh/surface_geometry.hpp"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace capsim {
@@ -30,40 +32,90 @@ std::vector<double> enforce_volume(const Topology& topo, int num_capsules,
   return drift;
 }
 
-std::string broken_state(const Topology& topo, int num_capsules,
-                         const std::vector<Vec3>& x, double max_extent) {
+StateFault find_fault(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+                      double max_extent) {
   const int nn = topo.num_nodes;
   for (int c = 0; c < num_capsules; ++c) {
-    const std::string where = "in capsule " + std::to_string(c) + ": ";
     const Vec3* xc = &x[c * nn];
     for (int i = 0; i < nn; ++i)
       if (!std::isfinite(xc[i].x) || !std::isfinite(xc[i].y) || !std::isfinite(xc[i].z))
-        return where + "a node position is not finite (NaN or Inf)";
+        return {c, -1, "a node position is not finite (NaN or Inf)"};
     Vec3 centre = volume_centroid(topo, xc);
     for (int i = 0; i < nn; ++i)
       if (norm(xc[i] - centre) > max_extent)
-        return where + "the membrane has blown up";
+        return {c, -1, "the membrane has blown up"};
     // A folded-over triangle points against the averaged normals of its own nodes.
     std::vector<Vec3> n = node_normals(topo, xc);
-    for (const auto& t : topo.triangles) {
+    for (size_t e = 0; e < topo.triangles.size(); ++e) {
+      const auto& t = topo.triangles[e];
       Vec3 an = area_vector2(xc[t[0]], xc[t[1]], xc[t[2]]);
       if (dot(an, n[t[0]] + n[t[1]] + n[t[2]]) <= 0)
-        return where + "a surface triangle has inverted";
+        return {c, int(e), "a surface triangle has inverted"};
     }
   }
-  return "";
+  return {};
 }
 
-void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+std::string broken_state(const Topology& topo, int num_capsules,
+                         const std::vector<Vec3>& x, double max_extent) {
+  const StateFault f = find_fault(topo, num_capsules, x, max_extent);
+  return f.capsule < 0 ? "" : "in capsule " + std::to_string(f.capsule) + ": " + f.what;
+}
+
+namespace {
+
+const char* const kStepAdvice =
+    ". The time step is probably too large for this Ca and mesh: start again with a "
+    "smaller dt or dt_safety (the output folder keeps the last good checkpoint and time "
+    "series)";
+
+std::string tension_text(double t) {
+  std::ostringstream s;
+  s << std::setprecision(2) << t << " Gs";
+  return s.str();
+}
+
+// What an inverted triangle says of its cause: with compressed elements next to it the
+// membrane buckled (docs/suspensions.md: halving dt moved no such fold); otherwise the
+// step was too large.
+std::string inversion_cause(const Membrane& membrane, const Vec3* xc, int triangle) {
+  const std::vector<ElementTensions> t = membrane.neo_hookean_element_tensions(xc);
+  const Compression all = compression(t);
+  const Compression near = compression_near(membrane.topology(), t, triangle);
+  if (all.elements == 0)
+    return kStepAdvice;
+  std::ostringstream s;
+  s << "; " << all.elements << " of its " << all.of
+    << " elements are in compression (T2 < " << kCompressedTension << " Gs)";
+  if (near.elements == 0)
+    return s.str() + ", down to T2 = " + tension_text(all.min_tension) +
+           ", none next to the inverted one" + kStepAdvice;
+  s << ", down to T2 = " << tension_text(near.min_tension)
+    << " next to the inverted one: the membrane buckles under compressive tension, "
+       "which nothing resists at the element scale without bending stiffness, and "
+       "which a smaller dt did not cure in the measured cases ("
+    << (membrane.wrinkling() ? "membrane.wrinkling is on, so the membrane wrinkles "
+                               "there; membrane.bending regularises the fold"
+                             : "membrane.wrinkling or membrane.bending regularise it")
+    << "; docs/suspensions.md). The output folder keeps the last good checkpoint and "
+       "time series";
+  return s.str();
+}
+
+} // namespace
+
+void check_state(const Membrane& membrane, int num_capsules, const std::vector<Vec3>& x,
                  double time, double max_extent) {
-  const std::string problem = broken_state(topo, num_capsules, x, max_extent);
-  if (problem.empty())
+  const Topology& topo = membrane.topology();
+  const StateFault f = find_fault(topo, num_capsules, x, max_extent);
+  if (f.capsule < 0)
     return;
   std::ostringstream s;
-  s << "numerical failure at gammadot*t = " << time << " " << problem
-    << ". The time step is probably too large for this Ca and mesh: start again "
-       "with a smaller dt or dt_safety (the output folder keeps the last good "
-       "checkpoint and time series)";
+  s << "numerical failure at gammadot*t = " << time << " in capsule " << f.capsule << ": "
+    << f.what
+    << (f.triangle >= 0
+            ? inversion_cause(membrane, &x[f.capsule * topo.num_nodes], f.triangle)
+            : kStepAdvice);
   throw SimulationError(s.str());
 }
 

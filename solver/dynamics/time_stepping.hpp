@@ -3,6 +3,7 @@
 // Flow::heun_step): Freund's (2007) volume constraint, the checks that stop a broken
 // run, and the automatic step size.
 #include "dynamics/simulation_error.hpp"
+#include "membrane/membrane_forces.hpp"
 #include "mesh/icosphere.hpp"
 
 #include <string>
@@ -17,14 +18,25 @@ std::vector<double> enforce_volume(const Topology& topo, int num_capsules,
                                    std::vector<Vec3>& x,
                                    const std::vector<double>& volume0);
 
-// What is wrong with positions x ("in capsule C: ..."), or "" when nothing: a position
-// is not finite, a capsule has stretched beyond max_extent radii from its centroid, or
-// a triangle has collapsed or inverted.
+// The first fault of positions x: a position is not finite, a capsule has stretched
+// beyond max_extent radii from its centroid, or a triangle has collapsed or inverted.
+struct StateFault {
+  int capsule = -1;  // -1: no fault
+  int triangle = -1; // the inverted triangle of that capsule, else -1
+  std::string what;  // "a surface triangle has inverted", ...
+};
+StateFault find_fault(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+                      double max_extent = 10.0);
+
+// The fault as text ("in capsule C: ..."), or "" when there is none.
 std::string broken_state(const Topology& topo, int num_capsules,
                          const std::vector<Vec3>& x, double max_extent = 10.0);
 
-// Throws SimulationError (a numerical failure at `time`) when broken_state finds a fault.
-void check_state(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+// Throws SimulationError (a numerical failure at `time`) when find_fault finds a fault,
+// with what to do about it: for an inverted triangle next to compressed elements
+// (membrane/compression.hpp) the membrane buckled, and the message says so and what
+// regularises it; otherwise the time step was too large.
+void check_state(const Membrane& membrane, int num_capsules, const std::vector<Vec3>& x,
                  double time, double max_extent = 10.0);
 
 // The guard at a kernel's input or output: throws SimulationError naming `what` (e.g.

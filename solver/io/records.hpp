@@ -25,6 +25,9 @@ struct CapsuleSample {
                              // restored V0, since the previous sample
   double repelled_nodes = 0; // nodes within the repulsion range of another capsule
                              // (0 when the repulsion is off)
+  double compressed_elements = 0; // elements whose T2 of eq. 2.10 is compressive
+                                  // (membrane/compression.hpp)
+  double min_tension = 0;         // the smallest T2 of eq. 2.10 over Gs of any element
 };
 
 // One row of the time series: all capsules at one time.

@@ -70,6 +70,8 @@ const std::vector<CapsuleColumn>& capsule_columns() {
       scalar<&CapsuleSample::volume_error>("volume_error", "1"),
       scalar<&CapsuleSample::volume_drift>("volume_drift", "1"),
       scalar<&CapsuleSample::repelled_nodes>("repelled_nodes", "1", true),
+      scalar<&CapsuleSample::compressed_elements>("compressed_elements", "1", true),
+      scalar<&CapsuleSample::min_tension>("min_tension", "Gs", true),
       {"stresslet", "Gs a^2", {3, 3}, get_stresslet, set_stresslet},
       {"centroid", "a", {3}, get_centroid, set_centroid},
   };

@@ -2,7 +2,8 @@
 // timeseries.h5: one row per sample, extendible datasets (HDF5 C API).
 //   /time            (n)          gammadot t          /step (n) int64
 //   /capsule/D, /capsule/theta_D_deg, /capsule/principal_diff, /capsule/theta_S_deg,
-//   /capsule/energy, /capsule/volume_error        (n, M)
+//   /capsule/energy, /capsule/volume_error, /capsule/volume_drift,
+//   /capsule/repelled_nodes, /capsule/compressed_elements, /capsule/min_tension  (n, M)
 //   /capsule/stresslet (n, M, 3, 3)   /capsule/centroid (n, M, 3)
 // Each dataset carries a "units" attribute.
 #include "io/records.hpp"

@@ -41,12 +41,19 @@ std::vector<std::int32_t> all_triangles(const std::vector<std::array<int, 3>>& t
 
 bool has_fields(const SnapshotFrame& f, size_t nodes, size_t elements) {
   const bool any = !f.velocity.empty() || !f.traction.empty() || !f.tension_max.empty() ||
-                   !f.tension_min.empty() || !f.area_dilatation.empty();
-  if (any && (f.velocity.size() != nodes || f.traction.size() != nodes ||
-              f.tension_max.size() != nodes || f.tension_min.size() != nodes ||
-              f.area_dilatation.size() != elements))
+                   !f.tension_min.empty() || !f.area_dilatation.empty() ||
+                   !f.element_tension_max.empty() || !f.element_tension_min.empty();
+  if (any &&
+      (f.velocity.size() != nodes || f.traction.size() != nodes ||
+       f.tension_max.size() != nodes || f.tension_min.size() != nodes ||
+       f.area_dilatation.size() != elements || f.element_tension_max.size() != elements ||
+       f.element_tension_min.size() != elements))
     throw std::runtime_error("snapshot fields do not match the mesh");
   return any;
+}
+
+void write_scalars(hid_t file, const std::string& name, const std::vector<double>& v) {
+  h5::write_dataset(file, name, {v.size()}, v.data());
 }
 
 void write_vectors(hid_t file, const std::string& name, const std::vector<Vec3>& v) {
@@ -61,12 +68,11 @@ void write_fields(hid_t file, const SnapshotFrame& frame, int nodes_per_capsule)
   h5::write_dataset(file, "/capsule", {capsule.size()}, capsule.data());
   write_vectors(file, "/velocity", frame.velocity);
   write_vectors(file, "/traction", frame.traction);
-  h5::write_dataset(file, "/tension_max", {frame.tension_max.size()},
-                    frame.tension_max.data());
-  h5::write_dataset(file, "/tension_min", {frame.tension_min.size()},
-                    frame.tension_min.data());
-  h5::write_dataset(file, "/area_dilatation", {frame.area_dilatation.size()},
-                    frame.area_dilatation.data());
+  write_scalars(file, "/tension_max", frame.tension_max);
+  write_scalars(file, "/tension_min", frame.tension_min);
+  write_scalars(file, "/area_dilatation", frame.area_dilatation);
+  write_scalars(file, "/element_tension_max", frame.element_tension_max);
+  write_scalars(file, "/element_tension_min", frame.element_tension_min);
 }
 
 void write_snapshot_file(const std::string& path, const SnapshotFrame& frame,
@@ -106,7 +112,10 @@ std::string attributes_xml(const SnapshotIndexEntry& e) {
          attribute_xml(e, "traction", true, false) +
          attribute_xml(e, "tension_max", false, false) +
          attribute_xml(e, "tension_min", false, false) +
-         attribute_xml(e, "area_dilatation", false, true);
+         attribute_xml(e, "area_dilatation", false, true) +
+         (e.element_tensions ? attribute_xml(e, "element_tension_max", false, true) +
+                                   attribute_xml(e, "element_tension_min", false, true)
+                             : "");
 }
 
 std::string grid_xml(const SnapshotIndexEntry& e) {
@@ -173,8 +182,8 @@ void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame&
   if (entries.size() > static_cast<std::size_t>(index))
     entries.resize(index);
   const long num_triangles = static_cast<long>(triangles.size()) * num_capsules;
-  entries.push_back(
-      {name, frame.time, static_cast<long>(positions.size()), num_triangles, fields});
+  entries.push_back({name, frame.time, static_cast<long>(positions.size()), num_triangles,
+                     fields, fields});
   write_text_atomically((fs::path(run_dir) / "snapshots.xdmf").string(),
                         xdmf_text(entries));
 }
@@ -197,8 +206,11 @@ std::vector<SnapshotIndexEntry> list_snapshots(const std::string& run_dir, long 
         throw std::runtime_error("/nodes or /triangles is not a table");
       const double time = h5::read_scalar<double>(file.get(), "/time");
       const bool fields = H5Lexists(file.get(), "/velocity", H5P_DEFAULT) > 0;
-      return SnapshotIndexEntry{name, time, static_cast<long>(nodes[0]),
-                                static_cast<long>(triangles[0]), fields};
+      const bool tensions =
+          H5Lexists(file.get(), "/element_tension_max", H5P_DEFAULT) > 0;
+      return SnapshotIndexEntry{
+          name,   time,    static_cast<long>(nodes[0]), static_cast<long>(triangles[0]),
+          fields, tensions};
     }));
   }
   return entries;

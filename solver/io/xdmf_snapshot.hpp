@@ -4,8 +4,9 @@
 // c * nodes_per_capsule), with the scalars /time, /num_capsules, /box_side (L; 0 in the
 // dilute limit) and /strain (the Lees-Edwards offset of the lattice), and the fields to
 // colour by: per node /capsule (int32), /velocity and /traction (N, 3), /tension_max and
-// /tension_min (N); per element /area_dilatation (T). snapshots.xdmf is a temporal
-// collection over all of them, rewritten (write-then-rename) after each new snapshot.
+// /tension_min (N); per element /area_dilatation, /element_tension_max and
+// /element_tension_min (T). snapshots.xdmf is a temporal collection over all of them,
+// rewritten (write-then-rename) after each new snapshot.
 #include "common/vec3.hpp"
 
 #include <array>
@@ -19,7 +20,8 @@ struct SnapshotIndexEntry {
   double time;
   long num_nodes;
   long num_triangles;
-  bool fields = false; // has the fields (snapshots of older versions do not)
+  bool fields = false;           // has the fields (snapshots of older versions do not)
+  bool element_tensions = false; // has the per-element tensions (added later)
 };
 
 // Writes snapshot number `index` into `run_dir` and rewrites run_dir/snapshots.xdmf to
@@ -32,6 +34,8 @@ struct SnapshotFrame {
   std::vector<Vec3> velocity, traction;         // mu gammadot units
   std::vector<double> tension_max, tension_min; // principal tensions over Gs
   std::vector<double> area_dilatation;          // deformed over reference area
+  std::vector<double> element_tension_max,      // T1 and T2 of each element, over Gs
+      element_tension_min;
 };
 
 void write_snapshot(const std::string& run_dir, long index, const SnapshotFrame& frame,

@@ -3,7 +3,7 @@
 // boundary integral (eq. 2.2). Sign (docs/conventions.md): q_i = (dW/dx_i) / A_i, so that
 // a stretched capsule in quiescent fluid relaxes.
 #include "membrane/bending.hpp"
-#include "membrane/neo_hookean.hpp"
+#include "membrane/tension_field.hpp"
 #include "mesh/icosphere.hpp"
 
 #include <Eigen/Sparse>
@@ -28,8 +28,11 @@ std::string to_string(LoadMapping m);
 class Membrane {
 public:
   // reference: stress-free node positions (the initial sphere of radius a = 1); gs: the
-  // shear modulus; kb: the bending modulus (membrane/bending.hpp; 0 = none, the paper).
-  Membrane(const Topology& topo, const Vec3* reference, double gs, double kb = 0);
+  // shear modulus; kb: the bending modulus (membrane/bending.hpp; 0 = none, the paper);
+  // wrinkling: the relaxed (tension-field) energy of membrane/tension_field.hpp instead
+  // of eq. 2.11 (false: the paper's membrane).
+  Membrane(const Topology& topo, const Vec3* reference, double gs, double kb = 0,
+           bool wrinkling = false);
 
   // Fills grad with dW/dx (size num_nodes) and returns the energy W (elastic plus
   // bending).
@@ -40,19 +43,24 @@ public:
   void nodal_load(const Vec3* x, const std::vector<Vec3>& grad, LoadMapping mapping,
                   std::vector<Vec3>& q) const;
 
-  // dq/dx of the lumped load q_i = (dW/dx_i) / A_i of the neo-Hookean energy at x, with
+  // dq/dx of the lumped load q_i = (dW/dx_i) / A_i of the elastic energy at x, with
   // grad = dW/dx there: (1/A_i) d2W/dx_i dx_j - q_i (dA_i/dx_j)^T, a 3N x 3N matrix
   // (row 3 i + a, column 3 j + b) with the sparsity of the mesh's node neighbours. The
   // bending energy is left out: it linearises the elastic load only.
   Eigen::SparseMatrix<double> load_jacobian(const Vec3* x,
                                             const std::vector<Vec3>& grad) const;
 
-  // Principal tensions and area dilatation of every element at positions x.
+  // Principal tensions and area dilatation of every element at positions x, of the
+  // membrane's own energy (relaxed with wrinkling: then T2 >= 0).
   std::vector<ElementTensions> element_tensions(const Vec3* x) const;
+  // The same for the paper's energy (eq. 2.10) at x, whichever energy the membrane has:
+  // with wrinkling, T2 < 0 marks where it wrinkles.
+  std::vector<ElementTensions> neo_hookean_element_tensions(const Vec3* x) const;
 
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
   double bending_modulus() const { return kb_; }
+  bool wrinkling() const { return wrinkling_; }
   // The reference state of every element (what a device copy of the membrane needs).
   const std::vector<ElementReference>& references() const { return refs_; }
 
@@ -61,6 +69,7 @@ private:
   std::vector<ElementReference> refs_;
   double gs_;
   double kb_;
+  bool wrinkling_;
   std::vector<Hinge> hinges_; // empty when kb = 0
   std::vector<HingeReference> hinge_refs_;
 };

@@ -53,11 +53,31 @@ CAPSIM_HD double neo_hookean_element(const ElementReference& ref, double gs, Vec
   return energy;
 }
 
+// The squared principal stretches L1 = l1^2 >= L2 = l2^2 of an element, the eigenvalues
+// of M = G^-1 g, with their gap L1 - L2 and J^2 = (l1 l2)^2 = det g / det G. The gap
+// comes from M's entries: from the invariants, (l1^2 + l2^2)^2 / 4 - J^2 would cancel to
+// round-off noise near isotropy. L2 = J^2 / L1 keeps its digits when l2 is small.
+struct SquaredStretches {
+  double l1sq = 1, l2sq = 1, gap = 0, j2 = 1;
+};
+
+CAPSIM_HD SquaredStretches squared_stretches(const ElementReference& ref, double g11,
+                                             double g12, double g22) {
+  double m11 = ref.ginv11 * g11 + ref.ginv12 * g12,
+         m12 = ref.ginv11 * g12 + ref.ginv12 * g22;
+  double m21 = ref.ginv12 * g11 + ref.ginv22 * g12,
+         m22 = ref.ginv12 * g12 + ref.ginv22 * g22;
+  SquaredStretches s;
+  s.gap = std::sqrt(std::fmax(0.0, (m11 - m22) * (m11 - m22) + 4.0 * m12 * m21));
+  s.l1sq = 0.5 * (m11 + m22 + s.gap);
+  s.j2 = (g11 * g22 - g12 * g12) / ref.det_g0;
+  s.l2sq = s.j2 / s.l1sq;
+  return s;
+}
+
 // The principal tensions T1 >= T2 of the element (Cauchy, per unit deformed length, in
 // units of Gs) and its area dilatation J = l1 l2. From eq. 2.10 with w_s of eq. 2.11:
-// T_a = (1 / l_b) dw_s/dl_a = Gs (l_a^2 - 1 / J^2) / J (a != b); l1^2, l2^2 are the
-// eigenvalues of M = G^-1 g, whose discriminant is formed from M's entries: from the
-// invariants, (l1^2 + l2^2)^2 / 4 - J^2 would cancel to round-off noise near isotropy.
+// T_a = (1 / l_b) dw_s/dl_a = Gs (l_a^2 - 1 / J^2) / J (a != b).
 struct ElementTensions {
   double t1 = 0, t2 = 0; // T1 >= T2, over Gs
   double dilatation = 1; // J = deformed area / reference area
@@ -66,18 +86,12 @@ struct ElementTensions {
 CAPSIM_HD ElementTensions neo_hookean_tensions(const ElementReference& ref, Vec3 x0,
                                                Vec3 x1, Vec3 x2) {
   Vec3 e1 = x1 - x0, e2 = x2 - x0;
-  double g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2);
-  double m11 = ref.ginv11 * g11 + ref.ginv12 * g12,
-         m12 = ref.ginv11 * g12 + ref.ginv12 * g22;
-  double m21 = ref.ginv12 * g11 + ref.ginv22 * g12,
-         m22 = ref.ginv12 * g12 + ref.ginv22 * g22;
-  double i1 = m11 + m22, j2 = (g11 * g22 - g12 * g12) / ref.det_g0;
-  double root =
-      0.5 * std::sqrt(std::fmax(0.0, (m11 - m22) * (m11 - m22) + 4.0 * m12 * m21));
-  double l1sq = 0.5 * i1 + root, l2sq = 0.5 * i1 - root, j = std::sqrt(j2);
+  const SquaredStretches s =
+      squared_stretches(ref, dot(e1, e1), dot(e1, e2), dot(e2, e2));
+  const double j = std::sqrt(s.j2);
   ElementTensions t;
-  t.t1 = (l1sq - 1.0 / j2) / j;
-  t.t2 = (l2sq - 1.0 / j2) / j;
+  t.t1 = (s.l1sq - 1.0 / s.j2) / j;
+  t.t2 = (s.l2sq - 1.0 / s.j2) / j;
   t.dilatation = j;
   return t;
 }

@@ -1,55 +1,120 @@
 #pragma once
-// The second derivative of the neo-Hookean element energy (neo_hookean.hpp) with respect
-// to its three node positions: what an implicit time step linearises the membrane load
-// with. With e1 = x1 - x0, e2 = x2 - x0, W = c (i1 - 3 + det G / det g), c = Gs A0 / 2,
-// i1 = G^ab g_ab and det g = g11 g22 - g12^2, the gradient is
-//   f_a = dW/de_a = c (2 G^ab e_b + d_inv D_a),   D_a = d det g / d e_a,
-// d_inv = -det G / det g^2, so
-//   dfa/de_b = c (2 G^ab I + d_inv dD_a/de_b + 2 det G / det g^3 D_a D_b^T)
-// and the node blocks follow from x0 = -(e1 + e2) moves.
-#include "membrane/neo_hookean.hpp"
+// The second derivative of the membrane element energy (neo_hookean.hpp, and its
+// relaxation tension_field.hpp) with respect to its three node positions: what an
+// implicit time step linearises the membrane load with. Both energies are functions of
+// the invariants i1 = G^ab g_ab = L1 + L2 and J^2 = det g / det G = L1 L2 of the edges
+// e = (e1, e2) = (x1 - x0, x2 - x0), so the Hessians are formed in the six edge
+// coordinates from
+//   d i1/de_a = 2 G^ab e_b,            d^2 i1/de_a de_b = 2 G^ab I,
+//   d J^2/de_a = D_a / det G,          d^2 J^2/de_a de_b = (dD_a/de_b) / det G,
+// D_a = d det g / de_a, and carried to the nodes by x0 = -(e1 + e2) moves.
+// Neo-Hookean (eq. 2.11), W = c (i1 - 3 + 1/J^2), c = Gs A0 / 2:
+//   d^2 W = c (d^2 i1 - d^2 J^2 / J^4 + 2 dJ^2 dJ^2^T / J^6).
+// Wrinkled (tension_field.hpp), W = c f(L1), f = L1 + 2 L1^(-1/2) - 3: differentiating
+// (L1 - L2) dL1 = L1 d i1 - d J^2 once more, with dL2 = d i1 - dL1,
+//   (L1 - L2) d^2 L1 = d i1 dL1^T + dL1 d i1^T - 2 dL1 dL1^T + L1 d^2 i1 - d^2 J^2,
+//   d^2 W = c (f''(L1) dL1 dL1^T + f'(L1) d^2 L1).
+// Slack: 0. The relaxed energy is C1, so its Hessian jumps across the region borders; a
+// W-method (the imex scheme) keeps its order with any Jacobian.
+#include "membrane/tension_field.hpp"
 
 #include <Eigen/Dense>
 
 namespace capsim {
 
 using Matrix9 = Eigen::Matrix<double, 9, 9>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// The invariants' first and second derivatives in the edge coordinates (e1, e2).
+struct EdgeInvariants {
+  Vector6 di1, dj2;
+  Matrix6 ddi1, ddj2;
+  double j2 = 1;
+};
+
+inline EdgeInvariants edge_invariants(const ElementReference& ref,
+                                      const Eigen::Vector3d& e1,
+                                      const Eigen::Vector3d& e2) {
+  using M3 = Eigen::Matrix3d;
+  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
+  const M3 id = M3::Identity();
+  EdgeInvariants v;
+  v.j2 = (g11 * g22 - g12 * g12) / ref.det_g0;
+  v.di1 << 2.0 * (ref.ginv11 * e1 + ref.ginv12 * e2),
+      2.0 * (ref.ginv12 * e1 + ref.ginv22 * e2);
+  v.dj2 << 2.0 * (g22 * e1 - g12 * e2), 2.0 * (g11 * e2 - g12 * e1);
+  v.dj2 /= ref.det_g0;
+  v.ddi1 << 2.0 * ref.ginv11 * id, 2.0 * ref.ginv12 * id, 2.0 * ref.ginv12 * id,
+      2.0 * ref.ginv22 * id;
+  const M3 dd12 = 2.0 * (2.0 * e1 * e2.transpose() - e2 * e1.transpose() - g12 * id);
+  v.ddj2 << 2.0 * (g22 * id - e2 * e2.transpose()), dd12, dd12.transpose(),
+      2.0 * (g11 * id - e1 * e1.transpose());
+  v.ddj2 /= ref.det_g0;
+  return v;
+}
+
+// d^2 W/dx_i dx_j (3 i + a, 3 j + b) from d^2 W/de de with e1 = x1 - x0, e2 = x2 - x0.
+inline Matrix9 node_hessian(const Matrix6& h) {
+  Eigen::Matrix<double, 6, 9> p = Eigen::Matrix<double, 6, 9>::Zero();
+  for (int a = 0; a < 2; ++a) { // de_a = dx_{a+1} - dx_0
+    p.block<3, 3>(3 * a, 0) = -Eigen::Matrix3d::Identity();
+    p.block<3, 3>(3 * a, 3 * (a + 1)) = Eigen::Matrix3d::Identity();
+  }
+  return p.transpose() * h * p;
+}
+
+inline Matrix6 neo_hookean_edge_hessian(const ElementReference& ref, double gs,
+                                        const EdgeInvariants& v) {
+  const double c = 0.5 * gs * ref.area0, j4 = v.j2 * v.j2;
+  return c * (v.ddi1 - v.ddj2 / j4 + (2.0 / (j4 * v.j2)) * v.dj2 * v.dj2.transpose());
+}
+
+inline Matrix6 wrinkled_edge_hessian(const ElementReference& ref, double gs,
+                                     const SquaredStretches& s, const EdgeInvariants& v) {
+  if (!(s.gap > 0)) // L1 within round-off of 1: the force's limit is zero there
+    return Matrix6::Zero();
+  const double l1 = s.l1sq, inv_root = 1.0 / std::sqrt(l1);
+  const double f1 = 1.0 - inv_root * inv_root * inv_root;      // f'(L1)
+  const double f2 = 1.5 * inv_root * inv_root * inv_root / l1; // f''(L1)
+  const Vector6 dl = (l1 * v.di1 - v.dj2) / s.gap;
+  const Matrix6 ddl = (v.di1 * dl.transpose() + dl * v.di1.transpose() -
+                       2.0 * dl * dl.transpose() + l1 * v.ddi1 - v.ddj2) /
+                      s.gap;
+  return 0.5 * gs * ref.area0 * (f2 * dl * dl.transpose() + f1 * ddl);
+}
 
 // d^2 W_e / dx_i dx_j for the element's nodes i, j in 0..2, as 3x3 blocks (3 i + a,
 // 3 j + b).
 inline Matrix9 neo_hookean_element_hessian(const ElementReference& ref, double gs,
                                            Vec3 x0, Vec3 x1, Vec3 x2) {
-  using M3 = Eigen::Matrix3d;
-  using V3 = Eigen::Vector3d;
-  const V3 e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
-  const V3 e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
-  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
-  const double det = g11 * g22 - g12 * g12, c = 0.5 * gs * ref.area0;
-  const double d_inv = -ref.det_g0 / (det * det);
-  const double d_inv2 = 2.0 * ref.det_g0 / (det * det * det);
-  const V3 d1 = 2.0 * (g22 * e1 - g12 * e2), d2 = 2.0 * (g11 * e2 - g12 * e1);
-  const M3 id = M3::Identity();
-  const M3 dd11 = 2.0 * (g22 * id - e2 * e2.transpose());
-  const M3 dd22 = 2.0 * (g11 * id - e1 * e1.transpose());
-  const M3 dd12 = 2.0 * (2.0 * e1 * e2.transpose() - e2 * e1.transpose() - g12 * id);
-  const M3 h11 =
-      c * (2.0 * ref.ginv11 * id + d_inv * dd11 + d_inv2 * d1 * d1.transpose());
-  const M3 h22 =
-      c * (2.0 * ref.ginv22 * id + d_inv * dd22 + d_inv2 * d2 * d2.transpose());
-  const M3 h12 =
-      c * (2.0 * ref.ginv12 * id + d_inv * dd12 + d_inv2 * d1 * d2.transpose());
-  const M3 h21 = h12.transpose();
-  Matrix9 h;
-  h.block<3, 3>(3, 3) = h11;
-  h.block<3, 3>(3, 6) = h12;
-  h.block<3, 3>(6, 3) = h21;
-  h.block<3, 3>(6, 6) = h22;
-  h.block<3, 3>(0, 3) = -(h11 + h21);
-  h.block<3, 3>(0, 6) = -(h12 + h22);
-  h.block<3, 3>(3, 0) = -(h11 + h12);
-  h.block<3, 3>(6, 0) = -(h21 + h22);
-  h.block<3, 3>(0, 0) = h11 + h12 + h21 + h22;
-  return h;
+  const Eigen::Vector3d e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
+  const Eigen::Vector3d e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
+  return node_hessian(neo_hookean_edge_hessian(ref, gs, edge_invariants(ref, e1, e2)));
+}
+
+// The same for the relaxed energy (tension_field_element).
+inline Matrix9 tension_field_element_hessian(const ElementReference& ref, double gs,
+                                             Vec3 x0, Vec3 x1, Vec3 x2) {
+  const Eigen::Vector3d e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
+  const Eigen::Vector3d e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
+  const SquaredStretches s = squared_stretches(ref, e1.dot(e1), e1.dot(e2), e2.dot(e2));
+  switch (tension_state(s)) {
+  case TensionState::taut:
+    return node_hessian(neo_hookean_edge_hessian(ref, gs, edge_invariants(ref, e1, e2)));
+  case TensionState::wrinkled:
+    return node_hessian(wrinkled_edge_hessian(ref, gs, s, edge_invariants(ref, e1, e2)));
+  case TensionState::slack:
+    break;
+  }
+  return Matrix9::Zero();
+}
+
+// The Hessian of membrane_element.
+inline Matrix9 membrane_element_hessian(const ElementReference& ref, double gs,
+                                        bool wrinkling, Vec3 x0, Vec3 x1, Vec3 x2) {
+  return wrinkling ? tension_field_element_hessian(ref, gs, x0, x1, x2)
+                   : neo_hookean_element_hessian(ref, gs, x0, x1, x2);
 }
 
 } // namespace capsim

@@ -12,6 +12,7 @@
 #include "io/json_writer.hpp"
 #include "io/timeseries_file.hpp"
 #include "io/xdmf_snapshot.hpp"
+#include "membrane/compression.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "run/automatic_settings.hpp"
 #include "run/flow_factory.hpp"
@@ -93,7 +94,8 @@ class RunLoop {
 public:
   RunLoop(const RunOptions& o, std::string dir, bool quiet)
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
-        membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca),
+        membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
+                  o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
         flow_(make_flow(parse_backend(o.backend),
                         flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))),
@@ -322,7 +324,7 @@ void RunLoop::finish_step() {
   for (int c = 0; c < o_.capsules; ++c)
     if (std::abs(d[c]) > std::abs(drift_[c]))
       drift_[c] = d[c];
-  check_state(mesh_.topology, o_.capsules, x_, time());
+  check_state(membrane_, o_.capsules, x_, time());
   if (flow_->periodic())
     keep_in_box();
 }
@@ -369,6 +371,10 @@ void RunLoop::take_sample() {
                                         energy[c], v0_[c], o_.ca));
     s.capsules.back().volume_drift = drift_[c];
     s.capsules.back().repelled_nodes = repelled[c];
+    const Compression k =
+        compression(membrane_.neo_hookean_element_tensions(&x_[c * nn]));
+    s.capsules.back().compressed_elements = k.elements;
+    s.capsules.back().min_tension = k.min_tension;
     drift_[c] = 0;
   }
   pending_.push_back(std::move(s));
@@ -419,8 +425,8 @@ void RunLoop::save_snapshot() {
 }
 
 // Velocity and traction (one more evaluation of the flow: one per snapshot, against two
-// per step); the principal tensions at a node are the means over its elements weighted
-// by their reference areas.
+// per step); the principal tensions of every element, and at a node their means over
+// its elements weighted by their reference areas.
 void RunLoop::add_snapshot_fields(SnapshotFrame& frame) const {
   flow_->velocity(x_, frame.time, frame.velocity);
   flow_->traction(x_, frame.time, frame.traction);
@@ -439,6 +445,8 @@ void RunLoop::add_snapshot_fields(SnapshotFrame& frame) const {
         weight[c * nn + node] += w;
       }
       frame.area_dilatation.push_back(t[e].dilatation);
+      frame.element_tension_max.push_back(t[e].t1);
+      frame.element_tension_min.push_back(t[e].t2);
     }
   }
   for (size_t i = 0; i < x_.size(); ++i) {

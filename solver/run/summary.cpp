@@ -63,6 +63,8 @@ void write_summary_json(const std::string& path, const RunOptions& o,
     double number = std::strtod(value.c_str(), &end);
     if (!value.empty() && *end == '\0')
       j.field(key, number);
+    else if (value == "true" || value == "false") // a boolean key
+      j.field(key, value == "true");
     else
       j.field(key, value);
   }

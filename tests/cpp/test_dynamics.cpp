@@ -34,7 +34,7 @@ TEST_CASE("dynamics: a stretched capsule relaxes to a sphere, energy decreasing"
       monotone = monotone && w <= w_prev * (1 + 1e-12) + 1e-12 * w0; // rounding near 0
       w_prev = w;
     }
-    check_state(s.topology, 1, x, steps * dt);
+    check_state(membrane, 1, x, steps * dt);
     CHECK(monotone);
     CHECK(w_prev < 1e-3 * w0);
     Vec3 c = volume_centroid(s.topology, x.data());
@@ -53,17 +53,55 @@ TEST_CASE("dynamics: the volume constraint restores the reference volume", "[dyn
 
 TEST_CASE("dynamics: blow-up and NaN stop with a clear message", "[dynamics]") {
   Icosphere s = make_icosphere(2);
+  const Membrane membrane(s.topology, s.positions.data(), 1.0);
   auto x = s.positions;
   x[5].y = std::nan("");
-  CHECK_THROWS_WITH(check_state(s.topology, 1, x, 3.0),
+  CHECK_THROWS_WITH(check_state(membrane, 1, x, 3.0),
                     Catch::Contains("not finite") && Catch::Contains("dt"));
   x = s.positions;
   x[7] = 20.0 * x[7];
-  CHECK_THROWS_AS(check_state(s.topology, 1, x, 3.0), SimulationError);
+  CHECK_THROWS_AS(check_state(membrane, 1, x, 3.0), SimulationError);
   x = s.positions;
   const auto& t = s.topology.triangles[0];
   std::swap(x[t[1]], x[t[2]]); // fold one triangle over
-  CHECK_THROWS_WITH(check_state(s.topology, 1, x, 3.0), Catch::Contains("inverted"));
+  CHECK_THROWS_WITH(check_state(membrane, 1, x, 3.0), Catch::Contains("inverted"));
+  const StateFault f = find_fault(s.topology, 1, x);
+  CHECK(f.capsule == 0);
+  CHECK(f.triangle == 0);
+}
+
+// An inverted triangle among compressed elements is the membrane buckling, not the
+// step: the message says so and names what regularises it; among taut ones it keeps
+// the time-step advice.
+TEST_CASE("dynamics: an inverted triangle in a compressed region blames buckling",
+          "[dynamics]") {
+  Icosphere s = make_icosphere(2);
+  const Membrane membrane(s.topology, s.positions.data(), 1.0);
+  const auto& t = s.topology.triangles[0];
+  auto fold = [&](std::vector<Vec3> x) {
+    std::swap(x[t[1]], x[t[2]]);
+    return x;
+  };
+  // Shrunk to 0.9 of its size, every element is compressed (T2 = (0.81 - 1/0.6561) /
+  // 0.9).
+  const auto shrunk = fold(testing::stretched(s.positions, 0.9, 0.9, 0.9));
+  CHECK_THROWS_WITH(
+      check_state(membrane, 1, shrunk, 3.5),
+      Catch::Contains("in capsule 0: a surface triangle has inverted; ") &&
+          Catch::Contains(" of its 320 elements are in compression (T2 < -0.001 Gs), "
+                          "down to T2 = ") &&
+          Catch::Contains("Gs next to the inverted one: the membrane buckles") &&
+          Catch::Contains("membrane.wrinkling or membrane.bending") &&
+          !Catch::Contains("time step is probably"));
+  const Membrane wrinkling(s.topology, s.positions.data(), 1.0, 0, true);
+  CHECK_THROWS_WITH(check_state(wrinkling, 1, shrunk, 3.5),
+                    Catch::Contains("membrane.wrinkling is on"));
+  // Inflated to twice its size, every element stays taut after the fold.
+  const auto inflated = fold(testing::stretched(s.positions, 2.0, 2.0, 2.0));
+  CHECK_THROWS_WITH(check_state(membrane, 1, inflated, 3.5),
+                    Catch::Contains("a surface triangle has inverted. The time step is "
+                                    "probably too large") &&
+                        !Catch::Contains("compression"));
 }
 
 // The guard at the kernels' input (docs/reliability.md, "Numerical guards"): a NaN or

@@ -53,6 +53,8 @@ Sample make_sample(int row, int num_capsules, double offset = 0) {
     k.volume_error = b + 0.6;
     k.volume_drift = b + 0.65;
     k.repelled_nodes = b + 0.66;
+    k.compressed_elements = b + 0.67;
+    k.min_tension = -b - 0.68;
     k.centroid = {b + 0.7, b + 0.8, b + 0.9};
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
@@ -77,6 +79,8 @@ void require_equal(const Sample& a, const Sample& b) {
     REQUIRE(x.volume_error == y.volume_error);
     REQUIRE(x.volume_drift == y.volume_drift);
     REQUIRE(x.repelled_nodes == y.repelled_nodes);
+    REQUIRE(x.compressed_elements == y.compressed_elements);
+    REQUIRE(x.min_tension == y.min_tension);
     REQUIRE(x.centroid.x == y.centroid.x);
     REQUIRE(x.centroid.y == y.centroid.y);
     REQUIRE(x.centroid.z == y.centroid.z);
@@ -154,8 +158,8 @@ TEST_CASE("io: timeseries reopened with keep_rows drops later rows") {
                       Contains("none.h5") && Contains("does not exist"));
 }
 
-TEST_CASE("io: a timeseries of an older version (no repelled_nodes) reads as zeros and "
-          "resumes") {
+TEST_CASE("io: a timeseries of an older version (no repelled_nodes, compressed_elements, "
+          "min_tension) reads as zeros and resumes") {
   TempDir dir;
   const std::string path = dir.file("timeseries.h5");
   {
@@ -166,11 +170,15 @@ TEST_CASE("io: a timeseries of an older version (no repelled_nodes) reads as zer
   }
   {
     h5::Handle file = h5::open_file(path, H5F_ACC_RDWR);
-    REQUIRE(H5Ldelete(file.get(), "/capsule/repelled_nodes", H5P_DEFAULT) >= 0);
+    for (const char* name : {"/capsule/repelled_nodes", "/capsule/compressed_elements",
+                             "/capsule/min_tension"})
+      REQUIRE(H5Ldelete(file.get(), name, H5P_DEFAULT) >= 0);
   }
   std::vector<Sample> samples = read_timeseries(path);
   REQUIRE(samples.size() == 4);
   CHECK(samples[3].capsules[1].repelled_nodes == 0);
+  CHECK(samples[3].capsules[1].compressed_elements == 0);
+  CHECK(samples[3].capsules[1].min_tension == 0);
   CHECK(samples[3].capsules[1].taylor_D == make_sample(3, 2).capsules[1].taylor_D);
   {
     TimeseriesWriter writer(path, 2, 3); // resume at row 3: the column comes back
@@ -180,6 +188,7 @@ TEST_CASE("io: a timeseries of an older version (no repelled_nodes) reads as zer
   samples = read_timeseries(path);
   REQUIRE(samples.size() == 4);
   CHECK(samples[2].capsules[0].repelled_nodes == 0);
+  CHECK(samples[2].capsules[0].min_tension == 0);
   require_equal(samples[3], make_sample(3, 2, 0.5));
 }
 
@@ -328,6 +337,8 @@ TEST_CASE("io: xdmf snapshots and their index") {
   frame.tension_max.assign(8, 0.7);
   frame.tension_min.assign(8, -0.1);
   frame.area_dilatation = {1.0, 1.1, 1.2, 1.3};
+  frame.element_tension_max = {0.5, 0.6, 0.7, 0.8};
+  frame.element_tension_min = {-0.5, 0.0, 0.1, 0.2};
   write_snapshot(run_dir, 1, frame, triangles, 2, positions, entries);
   // Fields that do not match the mesh are refused, naming the file.
   SnapshotFrame short_fields = frame;
@@ -335,6 +346,11 @@ TEST_CASE("io: xdmf snapshots and their index") {
   CHECK_THROWS_WITH(
       write_snapshot(run_dir, 2, short_fields, triangles, 2, positions, entries),
       Contains("snapshot_000002.h5") && Contains("do not match"));
+  short_fields = frame;
+  short_fields.element_tension_min.pop_back();
+  CHECK_THROWS_WITH(
+      write_snapshot(run_dir, 2, short_fields, triangles, 2, positions, entries),
+      Contains("do not match"));
 
   REQUIRE(entries.size() == 2);
   REQUIRE(fs::exists(dir.path / "snapshots/snapshot_000000.h5"));
@@ -359,6 +375,10 @@ TEST_CASE("io: xdmf snapshots and their index") {
         std::vector<std::int32_t>{0, 0, 0, 0, 1, 1, 1, 1});
   CHECK(h5::read_dataset<double>(file.get(), "/area_dilatation", {4}) ==
         frame.area_dilatation);
+  CHECK(h5::read_dataset<double>(file.get(), "/element_tension_max", {4}) ==
+        frame.element_tension_max);
+  CHECK(h5::read_dataset<double>(file.get(), "/element_tension_min", {4}) ==
+        frame.element_tension_min);
   CHECK(h5::read_dataset<double>(file.get(), "/velocity", {8, 3})[3 * 5] == 5.0);
   // Only the snapshot with fields lists them, as node and cell attributes.
   CHECK(xdmf.find("snapshot_000000.h5:/velocity") == std::string::npos);
@@ -367,6 +387,9 @@ TEST_CASE("io: xdmf snapshots and their index") {
   CHECK_THAT(xdmf, Contains("<Attribute Name=\"area_dilatation\" "
                             "AttributeType=\"Scalar\" Center=\"Cell\">"));
   CHECK_THAT(xdmf, Contains("snapshots/snapshot_000001.h5:/tension_min"));
+  CHECK_THAT(xdmf, Contains("<Attribute Name=\"element_tension_min\" "
+                            "AttributeType=\"Scalar\" Center=\"Cell\">"));
+  CHECK_THAT(xdmf, Contains("snapshots/snapshot_000001.h5:/element_tension_max"));
 
   const auto listed = list_snapshots(run_dir, 1);
   REQUIRE(listed.size() == 1);
@@ -377,7 +400,9 @@ TEST_CASE("io: xdmf snapshots and their index") {
   REQUIRE(second.num_nodes == 8);
   REQUIRE(second.num_triangles == 4);
   CHECK(second.fields);
+  CHECK(second.element_tensions);
   CHECK_FALSE(listed[0].fields);
+  CHECK_FALSE(listed[0].element_tensions);
 }
 
 TEST_CASE("io: json writer escapes strings and writes null for non-finite numbers") {

@@ -30,6 +30,16 @@ TEST_CASE("config: defaults and nested keys", "[config]") {
   CHECK(o.load == LoadMapping::consistent);
   CHECK(o.bending == 0); // the paper's membrane has no bending stiffness
   CHECK(parse_run_options("membrane:\n  bending: 0.05\n", {}).bending == 0.05);
+  CHECK_FALSE(o.wrinkling); // the paper's membrane: eq. 2.11, compression included
+  CHECK(parse_run_options("membrane:\n  wrinkling: true\n", {}).wrinkling);
+  CHECK_FALSE(parse_run_options("", {"membrane.wrinkling=false"}).wrinkling);
+  // Written back as a boolean, so run.yaml and the checkpoint keep it.
+  const RunOptions w = parse_run_options("", {"membrane.wrinkling=true"});
+  CHECK_THAT(to_yaml(w),
+             Catch::Contains("membrane:\n") && Catch::Contains("  wrinkling: true\n"));
+  CHECK(parse_run_options(to_yaml(w), {}).wrinkling);
+  CHECK_THAT(parameter_table_markdown(),
+             Catch::Contains("| `membrane.wrinkling` | false | one of {true, false} |"));
 }
 
 TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
@@ -53,6 +63,11 @@ TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
   CHECK_THAT(error_of("ewald:\n  xi: -1\n"), Catch::Contains("ewald.xi: must be 'auto'"));
   CHECK_THAT(error_of("membrane:\n  bending: 2\n"),
              Catch::Contains("membrane.bending: must be a number in [0, 1]"));
+  CHECK_THAT(
+      error_of("membrane:\n  wrinkling: 1\n"),
+      Catch::Contains("membrane.wrinkling: must be one of {true, false}, got '1'"));
+  CHECK_THAT(error_of("", {"membrane.wrinkling=True"}),
+             Catch::Contains("membrane.wrinkling: must be one of {true, false}"));
   CHECK_THAT(error_of("ca: [1, 2]\n"), Catch::Contains("ca: must be a single value"));
   CHECK_THAT(error_of("ca: 0.2\n  bad indent: [\n"), Catch::Contains("not valid YAML"));
   CHECK_THAT(error_of("", {"ca"}), Catch::Contains("must be key=value"));

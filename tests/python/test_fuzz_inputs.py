@@ -86,7 +86,7 @@ def read_keys(binary):
 
 # ------------------------------------------------------------------ values per key
 
-# Wrong for every key: no number, no choice, no 'auto'.
+# Wrong for every key: no number, no choice (but "true" of a boolean key), no 'auto'.
 ALWAYS_BAD = ["", " ", "abc", "nan", "NaN", "-nan", ".nan", "inf", "-inf", ".inf",
               "Infinity", "1e400", "-1e400", "1e", "--1", "0,5", "1/2", "0.2.3",
               "0.2 apples", "\u0660\u066b\u0662", "\uff10\uff0e\uff12", "0.2\u00a0",
@@ -129,7 +129,8 @@ def bad_values(k, index, share):
     start = index * share % len(ALWAYS_BAD)
     values = (ALWAYS_BAD * 2)[start:start + share]
     if k.kind == "choice":
-        values += bad_choices(k)
+        # "true" is bad for every key but a boolean one (a choice of true and false).
+        values = [v for v in values if v not in k.choices] + bad_choices(k)
     else:
         values += [number_text(v) for v in bad_numbers(k)]
         values += ["AUTO", "auto "] if k.auto else ["auto"]

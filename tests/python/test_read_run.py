@@ -89,6 +89,23 @@ def test_read_timeseries_keeps_extra_datasets(tmp_path):
     assert got["global/particle_stress"].shape == (6, 3, 3)
 
 
+def test_read_timeseries_reads_the_later_series_where_present(tmp_path):
+    """A file of this version has compressed_elements and min_tension (and
+    repelled_nodes); one of an older version lacks them and still reads."""
+    later = {"repelled_nodes": np.zeros((TIMES.size, M)),
+             "compressed_elements": np.tile([3.0, 0.0], (TIMES.size, 1)),
+             "min_tension": np.tile([-0.4, 0.2], (TIMES.size, 1))}
+    got = read_timeseries(write_run(tmp_path / "new", {**make_series(), **later}))
+    for key, value in later.items():
+        np.testing.assert_array_equal(got[key], value, err_msg=key)
+    assert not any(key.startswith("capsule/") for key in got)
+    old = read_timeseries(write_run(tmp_path / "old", make_series()))
+    assert not set(later) & set(old)
+    short = {**make_series(), "min_tension": np.zeros((TIMES.size - 1, M))}
+    with pytest.raises(ValueError, match="/capsule/min_tension has shape"):
+        read_timeseries(write_run(tmp_path / "short", short))
+
+
 def test_read_timeseries_missing_dataset(tmp_path):
     run = write_run(tmp_path / "run", make_series(), skip=("energy",))
     with pytest.raises(ValueError, match="/capsule/energy is missing"):

@@ -1,6 +1,7 @@
-"""The snapshot fields (capsule index, velocity, traction, principal tensions, area
-dilatation) as a third-party XDMF reader (meshio) sees them, checked against what they
-must be: zero load on the undeformed spheres, and no net membrane force on a capsule."""
+"""The snapshot fields (capsule index, velocity, traction, principal tensions per node
+and per element, area dilatation) as a third-party XDMF reader (meshio) sees them,
+checked against what they must be: zero load on the undeformed spheres, no net membrane
+force on a capsule, and node tensions that are the means of the element ones."""
 
 import h5py
 import meshio
@@ -42,6 +43,8 @@ def test_fields_are_present_with_their_shapes(series):
         assert point_data["tension_max"].shape == (CAPSULES * NODES,)
         assert np.array_equal(point_data["capsule"], np.repeat(np.arange(CAPSULES), NODES))
         assert cell_data["area_dilatation"][0].shape == (len(triangles),)
+        assert cell_data["element_tension_max"][0].shape == (len(triangles),)
+        assert cell_data["element_tension_min"][0].shape == (len(triangles),)
         assert np.all(np.isfinite(point_data["velocity"]))
 
 
@@ -52,6 +55,8 @@ def test_undeformed_spheres_carry_no_load(series):
     assert np.abs(point_data["tension_max"]).max() < 1e-12
     assert np.abs(point_data["tension_min"]).max() < 1e-12
     assert np.allclose(cell_data["area_dilatation"][0], 1.0, rtol=0, atol=1e-12)
+    assert np.abs(cell_data["element_tension_max"][0]).max() < 1e-12
+    assert np.abs(cell_data["element_tension_min"][0]).max() < 1e-12
 
 
 def test_deformed_capsules_carry_no_net_membrane_force(series):
@@ -67,3 +72,23 @@ def test_deformed_capsules_carry_no_net_membrane_force(series):
         assert np.linalg.norm(force[nodes].sum(axis=0)) < 1e-10 * np.abs(force[nodes]).sum()
     assert np.all(point_data["tension_max"] >= point_data["tension_min"])
     assert np.all(cell_data["area_dilatation"][0] > 0)
+
+
+def test_node_tensions_are_the_means_of_the_element_tensions(series):
+    """At a node, the mean of its elements' T1 (T2) weighted by their reference areas,
+    which the first snapshot (the undeformed spheres) holds."""
+    triangles, steps, out = series
+    with h5py.File(out / "snapshots" / "snapshot_000000.h5", "r") as f:
+        reference = f["/nodes"][()]
+    a, b, c = (reference[triangles[:, k]] for k in range(3))
+    weight = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    _, point_data, cell_data = steps[-1]
+    for node_name, cell_name in (("tension_max", "element_tension_max"),
+                                 ("tension_min", "element_tension_min")):
+        element = cell_data[cell_name][0]
+        total, weights = np.zeros(len(reference)), np.zeros(len(reference))
+        for k in range(3):
+            np.add.at(total, triangles[:, k], weight * element)
+            np.add.at(weights, triangles[:, k], weight)
+        assert np.allclose(point_data[node_name], total / weights, rtol=1e-12, atol=1e-12)
+    assert np.all(cell_data["element_tension_max"][0] >= cell_data["element_tension_min"][0])
