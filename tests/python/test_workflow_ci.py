@@ -20,10 +20,10 @@ pytestmark = [
 ]
 
 
-def snakemake(workdir, *targets):
+def snakemake(workdir, *targets, configfile="ci.yaml"):
     exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
     cmd = [exe, "--cores", "2", "--snakefile", str(ROOT / "Snakefile"), "--directory",
-           str(workdir), *targets, "--configfile", str(ROOT / "config" / "ci.yaml")]
+           str(workdir), *targets, "--configfile", str(ROOT / "config" / configfile)]
     return subprocess.run(cmd, capture_output=True, text=True, timeout=600)
 
 
@@ -56,3 +56,19 @@ def test_ci_workflow_and_check(tmp_path):
     again = snakemake(tmp_path, "all", "check", "-n")
     assert again.returncode == 0
     assert "Nothing to be done" in again.stdout + again.stderr
+
+
+# Every configuration validates against the schema and plans its jobs; the counts are
+# those each configuration's header and docs/workflow.md state (runs that two studies
+# share counted once).
+@pytest.mark.parametrize("configfile, suspension_runs, dilute_runs", [
+    ("config.yaml", 40, 21),
+    ("quantitative.yaml", 45, 21),
+])
+def test_configuration_plans(tmp_path, configfile, suspension_runs, dilute_runs):
+    proc = snakemake(tmp_path, "all", "check", "-n", configfile=configfile)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    counts = dict(line.split()[:2] for line in proc.stdout.splitlines()
+                  if line.split()[:1] in (["suspension_run"], ["dilute_run"]))
+    assert int(counts["suspension_run"]) == suspension_runs
+    assert int(counts["dilute_run"]) == dilute_runs
