@@ -281,14 +281,6 @@ const std::vector<Param>& parameters() {
           "taut along its stretched direction only), none in a slack element; false = "
           "eq. 2.11 (the paper's membrane)"),
       real(
-          "membrane.wrinkling_residual", {0, 1, false, false},
-          [](RunOptions& o) -> double& { return o.wrinkling_residual; },
-          "with membrane.wrinkling: the fraction r of eq. 2.11 kept in the element "
-          "energy, (1 - r) relaxed + r eq. 2.11: eq. 2.11 where taut, a fraction r of "
-          "its compressive stiffness where wrinkled or slack, so that elements resist "
-          "being crushed across their wrinkles; 0 = the pure relaxed energy, 1 = eq. "
-          "2.11"),
-      real(
           "quadrature.far_ratio", {1, 50, false, false},
           [](RunOptions& o) -> double& { return o.quadrature.far_ratio; },
           "triangles closer than this many diameters get accurate quadrature"),
@@ -413,12 +405,6 @@ void validate(const RunOptions& o) {
   if (o.phi == 0 && o.capsules != 1)
     throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
                       std::to_string(o.capsules));
-  if (o.wrinkling_residual != 0 && !o.wrinkling)
-    throw ConfigError("membrane.wrinkling_residual: must be 0 unless membrane.wrinkling "
-                      "is true (it is the residual stiffness of the wrinkling membrane), "
-                      "got " +
-                      format_number(o.wrinkling_residual) +
-                      " with membrane.wrinkling false");
   if (o.method == "patches" && o.ewald.patch_level > o.mesh_level)
     throw ConfigError("ewald.patch_level: must be at most mesh_level (" +
                       std::to_string(o.mesh_level) + ") with method: patches, got " +

@@ -57,7 +57,6 @@ struct RunOptions {
   LoadMapping load = LoadMapping::lumped;
   double bending = 0.0;   // bending modulus kb / (Gs a^2); 0 = none (the paper)
   bool wrinkling = false; // relaxed (tension-field) membrane energy; false = eq. 2.11
-  double wrinkling_residual = 0; // with wrinkling: the fraction of eq. 2.11 kept
   QuadratureOptions quadrature;
   EwaldOptions ewald;
   SuspensionOptions suspension;

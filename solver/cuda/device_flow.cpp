@@ -14,7 +14,7 @@ struct DeviceFlow::Impl {
   DeviceArray<ElementReference> refs;
   cuda::MeshView mesh;
   double gs = 0, shear_rate = 0;
-  MembraneLaw law; // membrane.wrinkling and membrane.wrinkling_residual
+  bool wrinkling = false; // the relaxed membrane energy (membrane.wrinkling)
   // Accurate quadrature: options plus the Gauss-Legendre rule of the polar integrals.
   DeviceArray<double> gl_x, gl_w;
   NearRule rule;
@@ -76,7 +76,7 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup)
   Impl& s = *impl_;
   s.upload_mesh(membrane, setup.num_capsules);
   s.gs = membrane.shear_modulus();
-  s.law = membrane.law();
+  s.wrinkling = membrane.wrinkling();
   s.shear_rate = setup.shear_rate;
   const LineRule gl = gauss_legendre_01(quadrature.singular_points);
   s.gl_x.upload(gl.x);
@@ -113,7 +113,7 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup)
 DeviceFlow::~DeviceFlow() = default;
 
 void DeviceFlow::Impl::compute_traction(const Vec3* xd) {
-  cuda::element_forces(mesh, gs, law, xd, corner_grad.data(), area.data());
+  cuda::element_forces(mesh, gs, wrinkling, xd, corner_grad.data(), area.data());
   cuda::gather_nodes(mesh, corner_grad.data(), area.data(), true, q.data());
 }
 

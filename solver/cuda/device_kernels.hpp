@@ -32,9 +32,8 @@ struct TriangleBounds {
 
 // --- membrane_kernels.cu ---------------------------------------------------------------
 // dW/dx of every element at its three corners (corner_grad[3 e + k]) and its area; W
-// the neo-Hookean energy, or its relaxation with wrinkling and its residual fraction of
-// the neo-Hookean energy (membrane_element).
-void element_forces(const MeshView& mesh, double gs, MembraneLaw law, const Vec3* x,
+// the neo-Hookean energy, or its relaxation with wrinkling (membrane_element).
+void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3* x,
                     Vec3* corner_grad, double* area);
 // Per node: the sum of its corners' gradients; divided by the lumped node area (a third
 // of the adjacent triangles' areas) when lumped_load, which gives the traction q.

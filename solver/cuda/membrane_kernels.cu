@@ -8,7 +8,7 @@
 namespace capsim::cuda {
 namespace {
 
-__global__ void element_forces_kernel(MeshView mesh, double gs, MembraneLaw law,
+__global__ void element_forces_kernel(MeshView mesh, double gs, bool wrinkling,
                                       const Vec3* x, Vec3* corner_grad, double* area) {
   const int e = blockIdx.x * blockDim.x + threadIdx.x;
   if (e >= mesh.num_triangles())
@@ -18,7 +18,7 @@ __global__ void element_forces_kernel(MeshView mesh, double gs, MembraneLaw law,
   const int* t = mesh.triangles + 3 * local;
   const Vec3 x0 = x[base + t[0]], x1 = x[base + t[1]], x2 = x[base + t[2]];
   Vec3 g[3];
-  membrane_element(mesh.refs[local], gs, law, x0, x1, x2, g);
+  membrane_element(mesh.refs[local], gs, wrinkling, x0, x1, x2, g);
   for (int k = 0; k < 3; ++k)
     corner_grad[3 * e + k] = g[k];
   area[e] = 0.5 * norm(area_vector2(x0, x1, x2));
@@ -90,10 +90,10 @@ __global__ void heun_combine_kernel(int n, double h, const Vec3* u0, const Vec3*
 
 } // namespace
 
-void element_forces(const MeshView& mesh, double gs, MembraneLaw law, const Vec3* x,
+void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3* x,
                     Vec3* corner_grad, double* area) {
   CAPSIM_LAUNCH(element_forces_kernel, blocks_for(mesh.num_triangles()), kBlock)
-  (mesh, gs, law, x, corner_grad, area);
+  (mesh, gs, wrinkling, x, corner_grad, area);
   check_launch("element_forces");
 }
 

@@ -94,14 +94,9 @@ std::string inversion_cause(const Membrane& membrane, const Vec3* xc, int triang
     << " next to the inverted one: the membrane buckles under compressive tension, "
        "which nothing resists at the element scale without bending stiffness, and "
        "which a smaller dt did not cure in the measured cases ("
-    << (!membrane.wrinkling() ? "membrane.wrinkling or membrane.bending regularise it"
-        : membrane.law().residual > 0
-            ? "membrane.wrinkling is on with membrane.wrinkling_residual > 0, so the "
-              "membrane wrinkles there; membrane.bending regularises the fold"
-            : "membrane.wrinkling is on, so the membrane wrinkles there and nothing "
-              "resists crushing an element across its wrinkles; "
-              "membrane.wrinkling_residual keeps a fraction of that stiffness, "
-              "membrane.bending regularises the fold")
+    << (membrane.wrinkling() ? "membrane.wrinkling is on, so the membrane wrinkles "
+                               "there; membrane.bending regularises the fold"
+                             : "membrane.wrinkling or membrane.bending regularise it")
     << "; docs/suspensions.md). The output folder keeps the last good checkpoint and "
        "time series";
   return s.str();

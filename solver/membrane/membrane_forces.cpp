@@ -24,8 +24,8 @@ std::string to_string(LoadMapping m) {
 }
 
 Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, double kb,
-                   MembraneLaw law)
-    : topo_(topo), gs_(gs), kb_(kb), law_(law) {
+                   bool wrinkling)
+    : topo_(topo), gs_(gs), kb_(kb), wrinkling_(wrinkling) {
   refs_.reserve(topo.triangles.size());
   for (const auto& t : topo.triangles)
     refs_.push_back(
@@ -47,7 +47,7 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
     const Matrix9 h =
-        membrane_element_hessian(refs_[e], gs_, law_, x[t[0]], x[t[1]], x[t[2]]);
+        membrane_element_hessian(refs_[e], gs_, wrinkling_, x[t[0]], x[t[1]], x[t[2]]);
     // d(area_e)/dx_k = n_hat x (x_{k+2} - x_{k+1}) / 2; node i holds a third of it.
     const Vec3 an = area_vector2(x[t[0]], x[t[1]], x[t[2]]);
     const Vec3 n_hat = (1.0 / norm(an)) * an;
@@ -76,7 +76,7 @@ std::vector<ElementTensions> Membrane::element_tensions(const Vec3* x) const {
   std::vector<ElementTensions> out(refs_.size());
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
-    out[e] = membrane_tensions(refs_[e], law_, x[t[0]], x[t[1]], x[t[2]]);
+    out[e] = membrane_tensions(refs_[e], wrinkling_, x[t[0]], x[t[1]], x[t[2]]);
   }
   return out;
 }
@@ -96,7 +96,7 @@ double Membrane::energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const {
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
     Vec3 g[3];
-    w += membrane_element(refs_[e], gs_, law_, x[t[0]], x[t[1]], x[t[2]], g);
+    w += membrane_element(refs_[e], gs_, wrinkling_, x[t[0]], x[t[1]], x[t[2]], g);
     for (int k = 0; k < 3; ++k)
       grad[t[k]] += g[k];
   }

@@ -29,11 +29,10 @@ class Membrane {
 public:
   // reference: stress-free node positions (the initial sphere of radius a = 1); gs: the
   // shear modulus; kb: the bending modulus (membrane/bending.hpp; 0 = none, the paper);
-  // law: eq. 2.11 (the default: the paper's membrane), or with law.wrinkling the relaxed
-  // (tension-field) energy of membrane/tension_field.hpp, with the residual fraction
-  // law.residual of eq. 2.11 where it is not taut.
+  // wrinkling: the relaxed (tension-field) energy of membrane/tension_field.hpp instead
+  // of eq. 2.11 (false: the paper's membrane).
   Membrane(const Topology& topo, const Vec3* reference, double gs, double kb = 0,
-           MembraneLaw law = {});
+           bool wrinkling = false);
 
   // Fills grad with dW/dx (size num_nodes) and returns the energy W (elastic plus
   // bending).
@@ -52,8 +51,7 @@ public:
                                             const std::vector<Vec3>& grad) const;
 
   // Principal tensions and area dilatation of every element at positions x, of the
-  // membrane's own energy (relaxed with wrinkling: then T2 >= 0, or T2 >= r T2_2.11 with
-  // a residual fraction r).
+  // membrane's own energy (relaxed with wrinkling: then T2 >= 0).
   std::vector<ElementTensions> element_tensions(const Vec3* x) const;
   // The same for the paper's energy (eq. 2.10) at x, whichever energy the membrane has:
   // with wrinkling, T2 < 0 marks where it wrinkles.
@@ -62,8 +60,7 @@ public:
   const Topology& topology() const { return topo_; }
   double shear_modulus() const { return gs_; }
   double bending_modulus() const { return kb_; }
-  bool wrinkling() const { return law_.wrinkling; }
-  MembraneLaw law() const { return law_; }
+  bool wrinkling() const { return wrinkling_; }
   // The reference state of every element (what a device copy of the membrane needs).
   const std::vector<ElementReference>& references() const { return refs_; }
 
@@ -72,7 +69,7 @@ private:
   std::vector<ElementReference> refs_;
   double gs_;
   double kb_;
-  MembraneLaw law_;
+  bool wrinkling_;
   std::vector<Hinge> hinges_; // empty when kb = 0
   std::vector<HingeReference> hinge_refs_;
 };

@@ -14,9 +14,7 @@
 // (L1 - L2) dL1 = L1 d i1 - d J^2 once more, with dL2 = d i1 - dL1,
 //   (L1 - L2) d^2 L1 = d i1 dL1^T + dL1 d i1^T - 2 dL1 dL1^T + L1 d^2 i1 - d^2 J^2,
 //   d^2 W = c (f''(L1) dL1 dL1^T + f'(L1) d^2 L1).
-// Slack: 0. With a residual fraction r of eq. 2.11 (membrane.wrinkling_residual) the
-// Hessian is the same combination as the energy, (1 - r) d^2 W_relaxed + r d^2 W_2.11.
-// The relaxed energy is C1, so its Hessian jumps across the region borders; a
+// Slack: 0. The relaxed energy is C1, so its Hessian jumps across the region borders; a
 // W-method (the imex scheme) keeps its order with any Jacobian.
 #include "membrane/tension_field.hpp"
 
@@ -112,32 +110,11 @@ inline Matrix9 tension_field_element_hessian(const ElementReference& ref, double
   return Matrix9::Zero();
 }
 
-// The same for the relaxed energy with a residual fraction r of eq. 2.11
-// (residual_element): (1 - r) times the relaxed Hessian plus r times eq. 2.11's where
-// not taut, eq. 2.11's where taut.
-inline Matrix9 residual_element_hessian(const ElementReference& ref, double gs, double r,
-                                        Vec3 x0, Vec3 x1, Vec3 x2) {
-  const Eigen::Vector3d e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
-  const Eigen::Vector3d e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
-  const SquaredStretches s = squared_stretches(ref, e1.dot(e1), e1.dot(e2), e2.dot(e2));
-  const TensionState state = tension_state(s);
-  const EdgeInvariants v = edge_invariants(ref, e1, e2);
-  const Matrix6 neo = neo_hookean_edge_hessian(ref, gs, v);
-  if (state == TensionState::taut)
-    return node_hessian(neo);
-  Matrix6 h = r * neo;
-  if (state == TensionState::wrinkled)
-    h += (1.0 - r) * wrinkled_edge_hessian(ref, gs, s, v);
-  return node_hessian(h);
-}
-
 // The Hessian of membrane_element.
 inline Matrix9 membrane_element_hessian(const ElementReference& ref, double gs,
-                                        MembraneLaw law, Vec3 x0, Vec3 x1, Vec3 x2) {
-  if (!law.wrinkling)
-    return neo_hookean_element_hessian(ref, gs, x0, x1, x2);
-  return law.residual > 0 ? residual_element_hessian(ref, gs, law.residual, x0, x1, x2)
-                          : tension_field_element_hessian(ref, gs, x0, x1, x2);
+                                        bool wrinkling, Vec3 x0, Vec3 x1, Vec3 x2) {
+  return wrinkling ? tension_field_element_hessian(ref, gs, x0, x1, x2)
+                   : neo_hookean_element_hessian(ref, gs, x0, x1, x2);
 }
 
 } // namespace capsim

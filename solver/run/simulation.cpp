@@ -95,7 +95,7 @@ public:
   RunLoop(const RunOptions& o, std::string dir, bool quiet)
       : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
-                  {o.wrinkling, o.wrinkling_residual}),
+                  o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
         flow_(make_flow(parse_backend(o.backend),
                         flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))),

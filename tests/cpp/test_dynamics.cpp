@@ -93,7 +93,7 @@ TEST_CASE("dynamics: an inverted triangle in a compressed region blames buckling
           Catch::Contains("Gs next to the inverted one: the membrane buckles") &&
           Catch::Contains("membrane.wrinkling or membrane.bending") &&
           !Catch::Contains("time step is probably"));
-  const Membrane wrinkling(s.topology, s.positions.data(), 1.0, 0, MembraneLaw{true});
+  const Membrane wrinkling(s.topology, s.positions.data(), 1.0, 0, true);
   CHECK_THROWS_WITH(check_state(wrinkling, 1, shrunk, 3.5),
                     Catch::Contains("membrane.wrinkling is on"));
   // Inflated to twice its size, every element stays taut after the fold.

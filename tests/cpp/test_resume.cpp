@@ -150,8 +150,6 @@ TEST_CASE("resume: bad input is refused and loses nothing", "[resume]") {
   // A new run into a finished run's folder, a physics change on resume, bad values:
   CHECK(run({"run", "-q", "-o", dir.string()}) == 2);
   CHECK(run({"run", "-q", "--resume", dir.string(), "--set", "ca=0.5"}) == 2);
-  CHECK(run({"run", "-q", "--resume", dir.string(), "--set",
-             "membrane.wrinkling_residual=0.05"}) == 2);
   CHECK(run({"run", "-q", "--set", "ca=-1", "-o", (dir / "sub").string()}) == 2);
   CHECK(fs::last_write_time(dir / "summary.json") == before);
   CHECK_FALSE(fs::exists(dir / "sub"));

@@ -42,48 +42,6 @@ TEST_CASE("config: defaults and nested keys", "[config]") {
              Catch::Contains("| `membrane.wrinkling` | false | one of {true, false} |"));
 }
 
-TEST_CASE("config: membrane.wrinkling_residual, with membrane.wrinkling only",
-          "[config]") {
-  CHECK(parse_run_options("", {}).wrinkling_residual == 0); // the pure relaxed energy
-  const RunOptions r =
-      parse_run_options("membrane:\n  wrinkling: true\n  wrinkling_residual: 0.05\n", {});
-  CHECK(r.wrinkling);
-  CHECK(r.wrinkling_residual == 0.05);
-  CHECK(
-      parse_run_options("", {"membrane.wrinkling=true", "membrane.wrinkling_residual=1"})
-          .wrinkling_residual == 1);
-  // 0 is the default, so it may be given without wrinkling.
-  CHECK(parse_run_options("", {"membrane.wrinkling_residual=0"}).wrinkling_residual == 0);
-  // Written back under membrane:, so run.yaml, the checkpoint and summary.json keep it.
-  CHECK_THAT(to_yaml(r),
-             Catch::Contains("membrane:\n") &&
-                 Catch::Contains("  wrinkling: true\n  wrinkling_residual: 0.05\n"));
-  CHECK(parse_run_options(to_yaml(r), {}).wrinkling_residual == 0.05);
-  const auto flat = flat_values(r);
-  CHECK(std::find(flat.begin(), flat.end(),
-                  std::pair<std::string, std::string>{"membrane.wrinkling_residual",
-                                                      "0.05"}) != flat.end());
-  CHECK_THAT(
-      parameter_table_markdown(),
-      Catch::Contains("| `membrane.wrinkling_residual` | 0 | a number in [0, 1] |"));
-  // Out of its range, and given without the wrinkling membrane it belongs to.
-  const std::vector<std::string> on = {"membrane.wrinkling=true"};
-  for (const char* bad : {"-0.01", "1.5", "nan", "auto"}) {
-    std::vector<std::string> sets = on;
-    sets.push_back(std::string("membrane.wrinkling_residual=") + bad);
-    CHECK_THAT(
-        error_of("", sets),
-        Catch::Contains("membrane.wrinkling_residual: must be a number in [0, 1]"));
-  }
-  const std::string without = error_of("membrane:\n  wrinkling_residual: 0.05\n");
-  CHECK_THAT(without, Catch::Contains("membrane.wrinkling_residual: must be 0 unless "
-                                      "membrane.wrinkling is true") &&
-                          Catch::Contains("got 0.05 with membrane.wrinkling false"));
-  CHECK_THAT(error_of("", {"membrane.wrinkling=false", "membrane.wrinkling_residual=1"}),
-             Catch::Contains("membrane.wrinkling_residual") &&
-                 Catch::Contains("membrane.wrinkling false"));
-}
-
 TEST_CASE("config: bad values name the key and the allowed range", "[config]") {
   CHECK_THAT(error_of("ca: -0.1\n"), Catch::Contains("ca: must be a number in (0, 10]") &&
                                          Catch::Contains("-0.1"));
