@@ -312,36 +312,6 @@ TEST_CASE("tension field: the Hessian is the derivative of the forces in every r
             .maxCoeff() == 0);
 }
 
-TEST_CASE("tension field: the membrane's linearised load is the derivative of its load",
-          "[tension_field]") {
-  const Icosphere s = make_icosphere(2);
-  const Membrane membrane(s.topology, s.positions.data(), 5.0, 0, true);
-  const auto x =
-      testing::perturbed(testing::stretched(s.positions, 0.85, 1.25, 0.95, 0.4), 0.02, 5);
-  auto load = [&](const std::vector<Vec3>& p) {
-    std::vector<Vec3> grad, q;
-    membrane.energy_gradient(p.data(), grad);
-    membrane.nodal_load(p.data(), grad, LoadMapping::lumped, q);
-    return q;
-  };
-  std::vector<Vec3> grad;
-  membrane.energy_gradient(x.data(), grad);
-  const Eigen::MatrixXd jac = Eigen::MatrixXd(membrane.load_jacobian(x.data(), grad));
-  const double step = 1e-6;
-  double worst = 0;
-  for (int j = 0; j < 3 * s.topology.num_nodes; j += 7) { // every 7th column
-    auto xp = x, xm = x;
-    (&xp[j / 3].x)[j % 3] += step;
-    (&xm[j / 3].x)[j % 3] -= step;
-    const auto qp = load(xp), qm = load(xm);
-    for (int i = 0; i < 3 * s.topology.num_nodes; ++i) {
-      const double fd = ((&qp[i / 3].x)[i % 3] - (&qm[i / 3].x)[i % 3]) / (2 * step);
-      worst = std::max(worst, std::abs(fd - jac(i, j)));
-    }
-  }
-  CHECK(worst < 1e-6 * jac.cwiseAbs().maxCoeff());
-}
-
 TEST_CASE("tension field: the membrane switch picks one function for the CPU and the "
           "device",
           "[tension_field]") {
