@@ -55,26 +55,33 @@ CAPSIM_HD HingeReference make_hinge_reference(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
   return {dihedral_angle(a, b, c, d), 3.0 * dot(e, e) / area};
 }
 
-// Returns the hinge energy E_e and adds dE_e/dx to grad[0..3] (nodes a, b, c, d). The
-// angle's gradient: moving c along n1 by delta turns its triangle about the edge by
-// delta |e| / |n1|, which flattens a convex hinge; a and b share the rest so that the
-// four gradients sum to zero (translation) (Bridson et al. 2003).
-CAPSIM_HD double bending_hinge(const HingeReference& ref, double kb, Vec3 a, Vec3 b,
-                               Vec3 c, Vec3 d, Vec3 grad[4]) {
+// The dihedral angle theta of the hinge (as dihedral_angle) and its gradient
+// dtheta[0..3] with respect to nodes a, b, c, d. Moving c along n1 by delta turns its
+// triangle about the edge by delta |e| / |n1|, which flattens a convex hinge; a and b
+// share the rest so that the four gradients sum to zero (translation) (Bridson et al.
+// 2003).
+CAPSIM_HD double hinge_angle_gradient(Vec3 a, Vec3 b, Vec3 c, Vec3 d, Vec3 dtheta[4]) {
   const Vec3 e = b - a;
   const Vec3 n1 = cross(e, c - a), n2 = cross(a - b, d - b);
   const double len = norm(e);
-  const double theta = normal_angle(n1, n2, e, len);
-  const double k = kb * ref.weight * (theta - ref.theta0); // dE/dtheta
   const Vec3 m1 = (1.0 / dot(n1, n1)) * n1, m2 = (1.0 / dot(n2, n2)) * n2;
-  const Vec3 dc = -len * m1, dd = -len * m2;
-  const Vec3 da = (-dot(c - b, e) / len) * m1 + (-dot(d - b, e) / len) * m2;
-  const Vec3 db = (dot(c - a, e) / len) * m1 + (dot(d - a, e) / len) * m2;
-  grad[0] += k * da;
-  grad[1] += k * db;
-  grad[2] += k * dc;
-  grad[3] += k * dd;
-  return 0.5 * kb * ref.weight * (theta - ref.theta0) * (theta - ref.theta0);
+  dtheta[0] = (-dot(c - b, e) / len) * m1 + (-dot(d - b, e) / len) * m2;
+  dtheta[1] = (dot(c - a, e) / len) * m1 + (dot(d - a, e) / len) * m2;
+  dtheta[2] = -len * m1;
+  dtheta[3] = -len * m2;
+  return normal_angle(n1, n2, e, len);
+}
+
+// Returns the hinge energy E_e and adds dE_e/dx = kb w (theta - theta0) dtheta/dx to
+// grad[0..3] (nodes a, b, c, d).
+CAPSIM_HD double bending_hinge(const HingeReference& ref, double kb, Vec3 a, Vec3 b,
+                               Vec3 c, Vec3 d, Vec3 grad[4]) {
+  Vec3 dtheta[4];
+  const double turn = hinge_angle_gradient(a, b, c, d, dtheta) - ref.theta0;
+  const double k = kb * ref.weight * turn; // dE/dtheta
+  for (int i = 0; i < 4; ++i)
+    grad[i] += k * dtheta[i];
+  return 0.5 * kb * ref.weight * turn * turn;
 }
 
 } // namespace capsim

@@ -38,12 +38,38 @@ Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, doubl
   }
 }
 
+// Each hinge's Gauss-Newton Hessian kb w dtheta/dx (dtheta/dx)^T (membrane/bending.hpp),
+// divided by the node areas as the elastic part. It holds the bending modes' stiffness
+// (~ kb / h^4 at the element scale) and is positive semi-definite; the term left out,
+// kb w (theta - theta0) d2theta/dx2, vanishes at the reference shape and grows only with
+// the turn of a hinge. A W-method keeps its order with an approximate J (docs/method.md).
+void Membrane::add_bending_jacobian(const Vec3* x, const std::vector<double>& area,
+                                    std::vector<Eigen::Triplet<double>>& trip) const {
+  for (size_t e = 0; e < hinges_.size(); ++e) {
+    const Hinge& h = hinges_[e];
+    const int node[4] = {h.a, h.b, h.c, h.d};
+    Vec3 g[4];
+    hinge_angle_gradient(x[h.a], x[h.b], x[h.c], x[h.d], g);
+    const double stiffness = kb_ * hinge_refs_[e].weight;
+    for (int i = 0; i < 4; ++i) {
+      const double gi[3] = {g[i].x, g[i].y, g[i].z};
+      for (int j = 0; j < 4; ++j) {
+        const double gj[3] = {g[j].x, g[j].y, g[j].z};
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            trip.emplace_back(3 * node[i] + a, 3 * node[j] + b,
+                              stiffness * gi[a] * gj[b] / area[node[i]]);
+      }
+    }
+  }
+}
+
 Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
                                                     const std::vector<Vec3>& grad) const {
   const int n = topo_.num_nodes;
   const std::vector<double> area = node_areas(topo_, x);
   std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(2 * 81 * refs_.size());
+  trip.reserve(2 * 81 * refs_.size() + 144 * hinges_.size());
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
     const Matrix9 h =
@@ -67,6 +93,7 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
       }
     }
   }
+  add_bending_jacobian(x, area, trip);
   Eigen::SparseMatrix<double> jac(3 * n, 3 * n);
   jac.setFromTriplets(trip.begin(), trip.end()); // sums the duplicates
   return jac;

@@ -45,8 +45,9 @@ public:
 
   // dq/dx of the lumped load q_i = (dW/dx_i) / A_i of the elastic energy at x, with
   // grad = dW/dx there: (1/A_i) d2W/dx_i dx_j - q_i (dA_i/dx_j)^T, a 3N x 3N matrix
-  // (row 3 i + a, column 3 j + b) with the sparsity of the mesh's node neighbours. The
-  // bending energy is left out: it linearises the elastic load only.
+  // (row 3 i + a, column 3 j + b) with the sparsity of the mesh's node neighbours (and
+  // their hinges' opposite nodes with bending). With bending, its Gauss-Newton part
+  // (exact where the hinges keep their reference angles, as under a uniform inflation).
   Eigen::SparseMatrix<double> load_jacobian(const Vec3* x,
                                             const std::vector<Vec3>& grad) const;
 
@@ -72,6 +73,10 @@ private:
   bool wrinkling_;
   std::vector<Hinge> hinges_; // empty when kb = 0
   std::vector<HingeReference> hinge_refs_;
+
+  // Adds the bending part of load_jacobian (node areas `area`) to trip.
+  void add_bending_jacobian(const Vec3* x, const std::vector<double>& area,
+                            std::vector<Eigen::Triplet<double>>& trip) const;
 };
 
 } // namespace capsim
