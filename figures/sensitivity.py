@@ -89,6 +89,8 @@ def bottom_row(axes, finished, styles, levels):
         plotted.append(rows.assign(x=x, panel="dilute"))
     for ax, q in zip(axes, QUANTITIES):
         ax.set(xlabel="Ca", ylabel=DILUTE_LABELS[q])
+        if 0 < cas.size <= 3:  # label the Ca themselves, not the offsets around them
+            ax.set_xticks(cas, [f"{ca:g}" for ca in cas])
     return plotted
 
 
