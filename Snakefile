@@ -38,6 +38,7 @@ include: "workflow/rules/snapshots.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/checks.smk"
 include: "workflow/rules/accuracy.smk"
+include: "workflow/rules/sensitivity.smk"
 
 
 rule all:

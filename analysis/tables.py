@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from analysis.averages import run_averages
+from analysis.membrane import code_from_parameters
 from analysis.read_run import read_summary, read_timeseries
 from analysis.rheology import rheology, stress_factor
 from analysis.stresslet import decomposition
@@ -28,7 +29,7 @@ COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "D_se", "D_s
                          "S12_principal", "S12_principal_se", "S11_S22", "S11_S22_se",
                          "S11_S22_principal", "S11_S22_principal_se", "sin2theta_S",
                          "sin2theta_S_se", "cos2theta_S", "cos2theta_S_se", "intrinsic",
-                         "ended", "run"))
+                         "membrane", "ended", "run"))
 
 
 def rheology_standard_errors(avg, phi, ca):
@@ -67,6 +68,9 @@ def run_row(run_dir, t_start=None, t_end=None):
     row["S11_S22_se"] = float(avg["normal_differences_se"][0])
     row.update({f"{name}_se": float(se) for name, se in avg["decomposition_se"].items()})
     row["intrinsic"] = int(phi == 0)
+    # The membrane the run carried (analysis.membrane: "paper", "wrinkling", "eb0.05"):
+    # the figures' footers say which points carry which.
+    row["membrane"] = code_from_parameters(p)
     # "t_end", or how a run stopped early ("contact", "numerical"); such a row averages
     # up to its last good sample, and the figures name it in their footers.
     row["ended"] = summary.get("ended", "t_end")
@@ -85,7 +89,7 @@ def stopped_row(run_dir, t_start=None):
                 "seed": int(p["seed"]), "mesh_level": int(p["mesh_level"]),
                 "t_start": float(summary["t_avg_start"] if t_start is None else t_start),
                 "t_end": float(times.max()) if times.size else 0.0, "count": 0,
-                "intrinsic": int(float(p["phi"]) == 0),
+                "intrinsic": int(float(p["phi"]) == 0), "membrane": code_from_parameters(p),
                 "ended": summary.get("ended", "t_end"), "run": str(run_dir)})
     return row
 

@@ -15,6 +15,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis import fits  # noqa: E402
+from analysis.membrane import PAPER as PAPER_MEMBRANE  # noqa: E402
 from analysis.statistics import propagated_standard_error  # noqa: E402
 from analysis.tables import read_table, with_data, write_table  # noqa: E402
 
@@ -53,10 +54,38 @@ def _rounded(values):
     return [round(v, 1) for v in values]
 
 
+def membranes(rows):
+    """The footer's part that says which membrane the runs carry (a run table's column
+    `membrane`, analysis.membrane's codes): the paper's when every row does (a table
+    without the column, or a cell left empty, is of the paper's membrane); otherwise
+    which (Ca, phi) carry which."""
+    if "membrane" in rows:
+        codes = rows["membrane"].astype(object)
+        codes = codes.where(codes.notna(), PAPER_MEMBRANE).astype(str)
+    else:
+        codes = pd.Series(PAPER_MEMBRANE, rows.index, dtype=str)
+    if (codes == PAPER_MEMBRANE).all():
+        return "membrane: the paper's (no bending)"
+    if codes.nunique() == 1:
+        return f"membrane: {codes.iloc[0]} (every run)"
+    parts = []
+    for code in sorted(set(codes), key=lambda c: (c != PAPER_MEMBRANE, c)):
+        mine = rows[codes == code].sort_values(["ca", "phi"], kind="stable")
+        phi = mine["phi"].astype(float)
+        where = list(dict.fromkeys(f"Ca {r.ca:g} phi {r.phi:g}"
+                                   for r in mine[phi > 0].itertuples()))
+        if (phi == 0).any():
+            where.append("the dilute limit at Ca " + ", ".join(
+                dict.fromkeys(f"{ca:g}" for ca in mine.loc[phi == 0, "ca"])))
+        name = "the paper's" if code == PAPER_MEMBRANE else code
+        parts.append(f"{name} at {', '.join(where)}")
+    return "membrane: " + "; ".join(parts)
+
+
 def footer(rows, t_start=None):
     """One line: mesh, capsules per box, end time and averaging window of these rows (a
-    run table), and the runs that stopped early (averaged up to their stop, or without
-    data)."""
+    run table), the membrane of each point, and the runs that stopped early (averaged up
+    to their stop, or without data)."""
     # A table without the column (or a cell left empty) means the runs ran to their end.
     ended = rows["ended"].fillna("t_end") if "ended" in rows else pd.Series("t_end", rows.index)
     finished = rows[ended == "t_end"]
@@ -75,6 +104,7 @@ def footer(rows, t_start=None):
         parts.append(f"dilute limit: N_E = {_span(elements(dil['mesh_level']), '{:d}')}, "
                      f"average over [{_span(dil['t_start'])}, "
                      f"{_span(_rounded(dil['t_end']))}]")
+    parts.append(membranes(rows))
     early = rows[ended != "t_end"]
     if not early.empty:
         parts.append("stopped early: " + ", ".join(

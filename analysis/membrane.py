@@ -1,0 +1,130 @@
+"""Membrane codes: which regularisation of the paper's membrane a run carries, in one word.
+
+The paper's membrane (neo-Hookean, eq. 2.11, no bending) folds at the element scale in
+strongly stretched capsules (docs/suspensions.md, "Hard cases"); capsim has two
+regularisers, both off by default (docs/usage.md): the relaxed (tension-field) membrane
+`membrane.wrinkling` and a hinge bending modulus `membrane.bending` eb = kb / (Gs a^2).
+A code names a run's membrane, and, for the sensitivity study, its time scheme:
+
+    paper                 nothing added (alone only)
+    wrinkling             --set membrane.wrinkling=true
+    eb<value>             --set membrane.bending=<value>, 0 < value <= 1 (capsim's range)
+    imex                  --set time.scheme=imex --set time.tolerance=auto
+
+joined by "+", e.g. wrinkling+eb0.01 or eb0.01+imex. The canonical spelling (canonical())
+orders the tokens as above and writes eb's value with %g; it is what run folders, tables
+and figure footers show. code_from_parameters() reads the membrane part back from a run's
+summary.json parameters, so a table says which membrane each run carried even where it
+was not planned by code (every study's table, analysis.tables).
+"""
+
+import math
+import re
+
+# The configuration key whose codes these are: named in every error, so that a bad code
+# in the configuration is found at once.
+CONFIG_KEY = "sensitivity.membranes"
+ALLOWED = ("paper (alone), or wrinkling, eb<kb/(Gs a^2), 0 < eb <= 1> and imex joined "
+           "by + (e.g. wrinkling, eb0.05, wrinkling+eb0.01, eb0.01+imex)")
+PAPER = "paper"
+EB = re.compile(r"^eb([0-9.eE+-]+)$")
+ORDER = ("wrinkling", "eb", "imex")  # the canonical order of the tokens
+
+
+def parse(code, key=CONFIG_KEY):
+    """The tokens of a code as a dict {"wrinkling": True, "eb": value, "imex": True} (only
+    those present; {} for paper). Raises ValueError naming the configuration key `key`
+    (sensitivity.membranes) and the allowed forms for anything else."""
+    def _error(code, why):
+        return ValueError(f"{key}: membrane '{code}' {why}; allowed: {ALLOWED}")
+
+    if not isinstance(code, str) or not code:
+        raise _error(code, "is not a code")
+    if code == PAPER:
+        return {}
+    tokens = {}
+    for token in code.split("+"):
+        match = EB.match(token)
+        if token == PAPER:
+            raise _error(code, "uses paper with other tokens (paper is alone only)")
+        if match:
+            try:
+                value = float(match.group(1))
+            except ValueError:
+                raise _error(code, f"has a bending modulus '{match.group(1)}' that is "
+                                   "not a number") from None
+            if not math.isfinite(value) or value <= 0 or value > 1:
+                raise _error(code, f"has a bending modulus {match.group(1)} outside "
+                                   "0 < eb <= 1 (eb0 is the paper's membrane: write paper)")
+            name = "eb"
+        elif token in ("wrinkling", "imex"):
+            name, value = token, True
+        else:
+            raise _error(code, f"has an unknown token '{token}'")
+        if name in tokens:
+            raise _error(code, f"repeats {name}")
+        tokens[name] = value
+    return tokens
+
+
+def _spell(tokens):
+    words = [key if key != "eb" else f"eb{tokens[key]:g}" for key in ORDER if key in tokens]
+    return "+".join(words) if words else PAPER
+
+
+def canonical(code, key=CONFIG_KEY):
+    """The code in its canonical spelling: tokens in the order wrinkling, eb, imex; eb's
+    value with %g (eb0.050+wrinkling -> wrinkling+eb0.05). A bad code raises ValueError
+    naming `key`."""
+    return _spell(parse(code, key))
+
+
+def options(code):
+    """The capsim `--set` options (key=value strings) of a code, in the canonical order."""
+    tokens = parse(code)
+    out = []
+    if "wrinkling" in tokens:
+        out.append("membrane.wrinkling=true")
+    if "eb" in tokens:
+        out.append(f"membrane.bending={tokens['eb']:g}")
+    if "imex" in tokens:
+        # imex at the tolerance whose time error is a tenth of the mesh error
+        # (time.tolerance auto, docs/method.md).
+        out += ["time.scheme=imex", "time.tolerance=auto"]
+    return out
+
+
+def membrane_part(code):
+    """The membrane of a code without its time scheme (eb0.01+imex -> eb0.01): what
+    code_from_parameters reads back from the run."""
+    return _spell({k: v for k, v in parse(code).items() if k != "imex"})
+
+
+def bending(code):
+    """The bending modulus eb of a code (0 without one)."""
+    return float(parse(code).get("eb", 0.0))
+
+
+def is_pure_bending(code):
+    """Whether a code is eb<value> alone: only bending, the paper's time scheme."""
+    return set(parse(code)) == {"eb"}
+
+
+def _flag(value):
+    if isinstance(value, str):
+        return value.strip().lower() in ("true", "1", "yes", "on")
+    return bool(value)
+
+
+def code_from_parameters(parameters):
+    """The membrane code of a run from its summary.json "parameters": membrane.wrinkling
+    and membrane.bending ("paper", "wrinkling", "eb0.05", "wrinkling+eb0.01"). A summary
+    of a version without these keys ran the paper's membrane. The time scheme is not part
+    of it: imex does not change the membrane."""
+    tokens = {}
+    if _flag(parameters.get("membrane.wrinkling", False)):
+        tokens["wrinkling"] = True
+    eb = float(parameters.get("membrane.bending", 0.0) or 0.0)
+    if eb > 0:
+        tokens["eb"] = eb
+    return _spell(tokens)
