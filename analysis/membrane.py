@@ -128,3 +128,25 @@ def code_from_parameters(parameters):
     if eb > 0:
         tokens["eb"] = eb
     return _spell(tokens)
+
+
+def point_membranes(entries, cas, phis, key):
+    """{(Ca, phi): canonical code} of a study's list of points that carry another membrane
+    (config grid.membranes: [{ca, phi, membrane}, ...]). Each point must be one of the
+    study's (Ca in cas, phi in phis) and listed once; a bad code or point raises
+    ValueError naming `key`."""
+    def match(value, values):  # the study's own value, as its keys hold it
+        return next((float(v) for v in values if math.isclose(value, float(v))), None)
+
+    out = {}
+    for entry in entries:
+        ca, phi = float(entry["ca"]), float(entry["phi"])
+        point = (match(ca, cas), match(phi, phis))
+        if None in point:
+            raise ValueError(f"{key}: Ca {ca:g}, phi {phi:g} is not a point of the study "
+                             f"(Ca in {list(cas)}, phi in {list(phis)})")
+        if point in out:
+            raise ValueError(f"{key}: Ca {point[0]:g}, phi {point[1]:g} is listed twice")
+        out[point] = canonical(entry["membrane"], key)
+    return out
+

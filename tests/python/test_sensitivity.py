@@ -242,3 +242,38 @@ def test_ci_sensitivity_study(tmp_path):
         tmp_path / "results" / "sensitivity" / "table.md").read_text()
     for ext in ("png", "pdf", "csv"):
         assert (tmp_path / "results" / "figures" / f"sensitivity.{ext}").stat().st_size > 0
+
+
+def test_grid_points_with_another_membrane_are_checked():
+    points = membrane.point_membranes([{"ca": 0.6, "phi": 0.40, "membrane": "eb0.050"}],
+                                      [0.2, 0.6], [0.3, 0.4], "grid.membranes")
+    assert points == {(0.6, 0.4): "eb0.05"}
+    with pytest.raises(ValueError, match=r"grid.membranes: Ca 0.5, phi 0.4 is not a point"):
+        membrane.point_membranes([{"ca": 0.5, "phi": 0.4, "membrane": "eb0.05"}],
+                                 [0.2, 0.6], [0.3, 0.4], "grid.membranes")
+    with pytest.raises(ValueError, match="listed twice"):
+        membrane.point_membranes([{"ca": 0.6, "phi": 0.4, "membrane": "eb0.05"}] * 2,
+                                 [0.6], [0.4], "grid.membranes")
+    with pytest.raises(ValueError, match="grid.membranes: membrane 'bend'"):
+        membrane.point_membranes([{"ca": 0.6, "phi": 0.4, "membrane": "bend"}],
+                                 [0.6], [0.4], "grid.membranes")
+
+
+def test_a_grid_point_with_another_membrane_has_its_own_run(tmp_path):
+    # The point's folder names its membrane (the mesh study's run of the same keys, with
+    # the paper's membrane, is then its own); a bad point stops the workflow at once.
+    config = yaml.safe_load((ROOT / "config" / "ci.yaml").read_text())
+    extra = tmp_path / "membranes.yaml"
+
+    def dry_run(point):
+        config["grid"]["membranes"] = [point]
+        extra.write_text(yaml.safe_dump(config))
+        return snakemake(tmp_path, "all", "-n", configfile=str(extra))
+
+    proc = dry_run({"ca": 0.4, "phi": 0.2, "membrane": "wrinkling+eb0.01"})
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    assert "grid/ca0.4_phi0.2_M2_level1_seed1_wrinkling+eb0.01/summary.json" in proc.stdout
+    assert "mesh/ca0.4_phi0.2_M2_level1_seed1/summary.json" in proc.stdout
+    proc = dry_run({"ca": 0.5, "phi": 0.2, "membrane": "eb0.01"})
+    assert proc.returncode != 0
+    assert "grid.membranes: Ca 0.5, phi 0.2 is not a point" in proc.stdout + proc.stderr

@@ -1,13 +1,18 @@
 # The workflow's functions and shared names, apart from its rules (as Snakemake's linter
 # wants). A suspension run folder names all that distinguishes the run:
-#   results/<study>/ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>/
-# and a dilute run folder results/dilute/ca<Ca>_level<level>/. A run that two studies
-# both need is made once, in the folder of the first of them in SUSPENSION_STUDIES.
+#   results/<study>/ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>]/
+# (the membrane code of analysis.membrane where a run does not carry the paper's, as the
+# grid's regularised points) and a dilute run folder results/dilute/ca<Ca>_level<level>/.
+# A run that two studies both need is made once, in the folder of the first of them in
+# SUSPENSION_STUDIES.
 import functools
 from modulefinder import ModuleFinder
 
+from analysis import membrane as membrane_codes
+
 SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
-RUN_NAME = "ca{ca}_phi{phi}_M{M}_level{level}_seed{seed}"
+# {membrane}: "" for the paper's membrane, else "_" and the code (run_name()).
+RUN_NAME = "ca{ca}_phi{phi}_M{M}_level{level}_seed{seed}{membrane}"
 
 
 wildcard_constraints:
@@ -17,6 +22,22 @@ wildcard_constraints:
     M=r"\d+",
     level=r"\d+",
     seed=r"\d+",
+    membrane=r"(_[a-z][a-z0-9.+-]*)?",
+
+
+def run_name(**keys):
+    """The folder name of a suspension run (keys: ca, phi, M, level, seed, and membrane,
+    a code of analysis.membrane, the paper's where it is missing)."""
+    code = keys.get("membrane", membrane_codes.PAPER)
+    suffix = "" if code == membrane_codes.PAPER else "_" + code
+    return RUN_NAME.format(**{**keys, "membrane": suffix})
+
+
+def membrane_options(suffix):
+    """The capsim options of a run folder's membrane suffix ("" or "_<code>")."""
+    if not suffix:
+        return ""
+    return " ".join(f"--set {o}" for o in membrane_codes.options(suffix[1:]))
 
 
 # Filled in by each study: study -> function returning the keys (ca, phi, M, level, seed)
@@ -35,16 +56,16 @@ def same_runs(study, other):
 
 @functools.cache
 def study_run_names(study):
-    return frozenset(RUN_NAME.format(**keys) for keys in STUDY_KEYS[study]())
+    return frozenset(run_name(**keys) for keys in STUDY_KEYS[study]())
 
 
 def run_summary(study, **keys):
-    """The summary.json of one run of `study` (keys: ca, phi, M, level, seed). Where an
+    """The summary.json of one run of `study` (keys: ca, phi, M, level, seed[, membrane]). Where an
     earlier study of SUSPENSION_STUDIES makes the same run (the same keys, t_end and
     snapshot interval: the mesh study's Table 1 case is often a grid point, the initial
     positions' runs some of the box-size study's), the summary of that study's run: it is
     run once, and a changed study block never redoes the other's runs."""
-    name = RUN_NAME.format(**keys)
+    name = run_name(**keys)
     for owner in SUSPENSION_STUDIES[: SUSPENSION_STUDIES.index(study)]:
         if same_runs(study, owner) and name in study_run_names(owner):
             return os.path.join("results", owner, name, "summary.json")

@@ -4,8 +4,16 @@
 GRID = config["grid"]
 
 
+# grid.membranes: the points that carry another membrane than the paper's (where it
+# folds, docs/suspensions.md), each {ca, phi, membrane: code}; checked here, before any
+# run, by analysis.membrane.point_membranes.
+GRID_MEMBRANES = membrane_codes.point_membranes(
+    GRID.get("membranes", []), GRID["ca"], GRID["phi"], "grid.membranes")
+
+
 def grid_keys():
-    return [dict(ca=ca, phi=phi, M=GRID["capsules"], level=GRID["mesh_level"], seed=seed)
+    return [dict(ca=ca, phi=phi, M=GRID["capsules"], level=GRID["mesh_level"], seed=seed,
+                 membrane=GRID_MEMBRANES.get((float(ca), float(phi)), membrane_codes.PAPER))
             for ca in GRID["ca"] for phi in GRID["phi"] for seed in GRID["seeds"]]
 
 

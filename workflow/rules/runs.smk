@@ -28,6 +28,7 @@ rule suspension_run:
         t_avg_start=lambda wc: min(config["averages"]["t_start"], 0.5 * config[wc.study]["t_end"]),
         snapshots=lambda wc: config[wc.study]["snapshot_interval"],
         options=run_option_sets(),
+        membrane=lambda wc: membrane_options(wc.membrane),
     threads: config["resources"]["threads"]
     resources:
         runtime=lambda wc: config["resources"]["suspension_minutes"],
@@ -40,6 +41,7 @@ rule suspension_run:
         "--set mesh_level={wildcards.level} --set seed={wildcards.seed} "
         "--set t_end={params.t_end} --set t_avg_start={params.t_avg_start} "
         "--set output.snapshot_interval={params.snapshots} {params.options} "
+        "{params.membrane} "
         "--set threads={threads}"
 
 
