@@ -40,6 +40,16 @@ def parse_args(description):
     return ap.parse_args()
 
 
+def parse_table_args(description):
+    """The arguments of a figure drawn from one study table (--out STEM TABLE): the output
+    stem and the table as a DataFrame."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--out", required=True, help="output stem: writes STEM.png/.pdf/.csv")
+    ap.add_argument("table")
+    args = ap.parse_args()
+    return args.out, read_table(args.table)
+
+
 def elements(level):
     """N_E of an icosphere level (or of each of an array of levels): 20 * 4^level."""
     return 20 * 4 ** np.asarray(level, dtype=int)

@@ -9,14 +9,12 @@ Usage: python figures/sensitivity.py --out results/figures/sensitivity \
 Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
 """
 
-import argparse
 
 import common
 import numpy as np
 from common import plt
 
 from analysis.sensitivity import PAPER, QUANTITIES
-from analysis.tables import read_table
 
 LABELS = {"D": r"$\langle D\rangle$", "mu_sp": r"$\mu_{sp}$", "N1": r"$N_1$"}
 DILUTE_LABELS = {"D": "D (dilute)", "mu_sp": r"$[\mu]$", "N1": r"$[N_1]$"}
@@ -113,11 +111,7 @@ def stopped_text(rows):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", required=True)
-    ap.add_argument("table")
-    args = ap.parse_args()
-    table = read_table(args.table)
+    out, table = common.parse_table_args(__doc__.splitlines()[0])
     table["ended"] = table["ended"].fillna("t_end")
     finished = table[table["ended"] == "t_end"]
     susp = table[table["case"] == "suspension"]
@@ -152,7 +146,7 @@ def main():
     columns = ["panel", "x", "case", "ca", "phi", "mesh_level", "N_E", "membrane", "ended"]
     columns += [c for q in QUANTITIES for c in (q, f"{q}_se", f"{q}_change",
                                                  f"{q}_change_se")]
-    common.save(fig, args.out, data[columns], caption)
+    common.save(fig, out, data[columns], caption)
 
 
 if __name__ == "__main__":

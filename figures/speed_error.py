@@ -7,14 +7,12 @@ Usage: python figures/speed_error.py --out results/figures/speed_error \
 Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
 """
 
-import argparse
 
 import common
 from common import plt
 from matplotlib.ticker import FormatStrFormatter, LogLocator
 
 from analysis.accuracy import PARTS
-from analysis.tables import read_table
 
 QUANTITIES = {"D": "<D>", "mu_sp": "mu_sp"}
 FAMILIES = {"base": "*", "mesh": "o", "ewald": "s", "time": "^", "capsules": "D",
@@ -42,11 +40,7 @@ def panel(ax, rows, q):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", required=True)
-    ap.add_argument("table")
-    args = ap.parse_args()
-    table = read_table(args.table)
+    out, table = common.parse_table_args(__doc__.splitlines()[0])
     cases = list(dict.fromkeys(table["case"]))
     fig, axes = plt.subplots(len(cases), len(QUANTITIES), squeeze=False,
                              figsize=(7.0, 2.8 * len(cases)))
@@ -65,7 +59,7 @@ def main():
                "Observed mesh orders: " + "; ".join(
                    f"{case}: D {table.loc[table['case'] == case, 'D_order'].iloc[0]:.2f}"
                    for case in cases) + ".")
-    common.save(fig, args.out, table[columns], caption)
+    common.save(fig, out, table[columns], caption)
 
 
 if __name__ == "__main__":
