@@ -9,7 +9,6 @@ Usage: python figures/sensitivity.py --out results/figures/sensitivity \
 Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
 """
 
-
 import common
 import numpy as np
 from common import plt
