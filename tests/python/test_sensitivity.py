@@ -75,8 +75,8 @@ def test_plan_of_the_default_configuration():
     runs = plan(block, dilute)
     suspension = [r for r in runs if r.case == "suspension"]
     diluted = [r for r in runs if r.case == "dilute"]
-    assert len(suspension) == 5 * 3 * 2 and len(diluted) == 7 * 2
-    assert len(run_names(block, dilute)) == 44  # every name distinct
+    assert len(suspension) == 5 * 3 * 2 and len(diluted) == 7 * 2 * 2
+    assert len(run_names(block, dilute)) == 58  # every name distinct
     names = {r.name for r in runs}
     assert "ca0.6_phi0.4_M8_level2_seed1_eb0.05" in names
     assert "ca0.6_phi0.4_M8_level3_seed1_eb0.025" in names
@@ -207,7 +207,7 @@ def test_default_configuration_plans_the_study(tmp_path):
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     counts = dict(line.split()[:2] for line in proc.stdout.splitlines()
                   if line.split()[:1] in (["sensitivity_run"], ["dilute_run"]))
-    assert int(counts["sensitivity_run"]) == 44
+    assert int(counts["sensitivity_run"]) == 58
     assert int(counts["dilute_run"]) == 14  # the references, shared with the dilute study
 
 
