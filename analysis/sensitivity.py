@@ -36,7 +36,6 @@ from analysis.tables import markdown_table, run_row, stopped_row, write_table
 
 QUANTITIES = ("D", "mu_sp", "N1")
 PAPER = membrane.PAPER
-membrane_options = membrane.options  # the codes' grammar lives in analysis.membrane
 COLUMNS = ("case", "ca", "phi", "capsules", "seed", "mesh_level", "N_E", "membrane",
            "ended", "t_stop", "t_start", "t_end", "count", "intrinsic",
            "D", "D_se", "mu_sp", "mu_sp_se", "N1", "N1_se",

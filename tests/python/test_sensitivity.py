@@ -15,7 +15,7 @@ import yaml
 from analysis import membrane
 from analysis.tables import COLUMNS, run_row, stopped_row
 from analysis.sensitivity import (changes_against_paper, dilute_references,
-                                  mark_smallest_eb, membrane_options, plan, run_names)
+                                  mark_smallest_eb, plan, run_names)
 from test_workflow_ci import ROOT, snakemake, pytestmark  # noqa: F401 (skips without capsim)
 
 sys.path.insert(0, str(ROOT / "figures"))
@@ -35,7 +35,7 @@ def config_block(name="config.yaml"):
     ("eb0.01+wrinkling", ["membrane.wrinkling=true", "membrane.bending=0.01"]),
 ])
 def test_membrane_codes_give_capsim_options(code, options):
-    assert membrane_options(code) == options
+    assert membrane.options(code) == options
 
 
 @pytest.mark.parametrize("code", ["bending", "eb", "ebx", "eb0", "eb-0.1", "eb2",
@@ -43,7 +43,7 @@ def test_membrane_codes_give_capsim_options(code, options):
                                   "Wrinkling", ""])
 def test_bad_membrane_codes_name_the_key_and_the_forms(code):
     with pytest.raises(ValueError, match=r"sensitivity\.membranes: .*allowed: paper"):
-        membrane_options(code)
+        membrane.options(code)
 
 
 def test_canonical_spelling():
