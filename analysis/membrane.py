@@ -4,18 +4,23 @@ The paper's membrane (neo-Hookean, eq. 2.11, no bending) folds at the element sc
 strongly stretched capsules (docs/suspensions.md, "Hard cases"); capsim has two
 regularisers, both off by default (docs/usage.md): the relaxed (tension-field) membrane
 `membrane.wrinkling` and a hinge bending modulus `membrane.bending` eb = kb / (Gs a^2).
-A code names a run's membrane, and, for the sensitivity study, its time scheme:
+A code names a run's membrane and, where a point needs them, a stronger repulsion
+between capsules or another time scheme:
 
     paper                 nothing added (alone only)
     wrinkling             --set membrane.wrinkling=true
     eb<value>             --set membrane.bending=<value>, 0 < value <= 1 (capsim's range)
+    rep<value>            --set suspension.repulsion_force=<value>, 0 < value <= 100
     imex                  --set time.scheme=imex --set time.tolerance=auto
 
-joined by "+", e.g. wrinkling+eb0.01 or eb0.01+imex. The canonical spelling (canonical())
-orders the tokens as above and writes eb's value with %g; it is what run folders, tables
-and figure footers show. code_from_parameters() reads the membrane part back from a run's
-summary.json parameters, so a table says which membrane each run carried even where it
-was not planned by code (every study's table, analysis.tables).
+joined by "+", e.g. wrinkling+eb0.01, eb0.025+rep5 or eb0.01+imex. rep is for the dense
+points whose capsules come into contact at the configuration's repulsion (docs/
+suspensions.md, "Hard cases"); it overrides run_options' suspension.repulsion_force for
+that run only. The canonical spelling (canonical()) orders the tokens as above and writes
+the values with %g; it is what run folders, tables and figure footers show.
+code_from_parameters() reads the membrane part back from a run's summary.json
+parameters, so a table says which membrane each run carried even where it was not
+planned by code (every study's table, analysis.tables).
 """
 
 import math
@@ -24,17 +29,22 @@ import re
 # The configuration key whose codes these are: named in every error, so that a bad code
 # in the configuration is found at once.
 CONFIG_KEY = "sensitivity.membranes"
-ALLOWED = ("paper (alone), or wrinkling, eb<kb/(Gs a^2), 0 < eb <= 1> and imex joined "
-           "by + (e.g. wrinkling, eb0.05, wrinkling+eb0.01, eb0.01+imex)")
+ALLOWED = ("paper (alone), or wrinkling, eb<kb/(Gs a^2), 0 < eb <= 1>, rep<F0 in "
+           "mu gammadot a^2, 0 < F0 <= 100> and imex joined by + (e.g. wrinkling, eb0.05, "
+           "wrinkling+eb0.01, eb0.025+rep5, eb0.01+imex)")
 PAPER = "paper"
-EB = re.compile(r"^eb([0-9.eE+-]+)$")
-ORDER = ("wrinkling", "eb", "imex")  # the canonical order of the tokens
+# The tokens with a value: the value's name in errors and capsim's range (lo, hi], which
+# run_options.cpp checks again.
+VALUED = {"eb": ("bending modulus", 1.0), "rep": ("repulsion force", 100.0)}
+VALUE = re.compile(r"^(eb|rep)([0-9.eE+-]+)$")
+ORDER = ("wrinkling", "eb", "rep", "imex")  # the canonical order of the tokens
 
 
 def parse(code, key=CONFIG_KEY):
-    """The tokens of a code as a dict {"wrinkling": True, "eb": value, "imex": True} (only
-    those present; {} for paper). Raises ValueError naming the configuration key `key`
-    (sensitivity.membranes) and the allowed forms for anything else."""
+    """The tokens of a code as a dict {"wrinkling": True, "eb": value, "rep": value,
+    "imex": True} (only those present; {} for paper). Raises ValueError naming the
+    configuration key `key` (sensitivity.membranes) and the allowed forms for anything
+    else."""
     def _error(code, why):
         return ValueError(f"{key}: membrane '{code}' {why}; allowed: {ALLOWED}")
 
@@ -44,19 +54,19 @@ def parse(code, key=CONFIG_KEY):
         return {}
     tokens = {}
     for token in code.split("+"):
-        match = EB.match(token)
+        match = VALUE.match(token)
         if token == PAPER:
             raise _error(code, "uses paper with other tokens (paper is alone only)")
         if match:
+            name, text = match.groups()
+            what, high = VALUED[name]
             try:
-                value = float(match.group(1))
+                value = float(text)
             except ValueError:
-                raise _error(code, f"has a bending modulus '{match.group(1)}' that is "
-                                   "not a number") from None
-            if not math.isfinite(value) or value <= 0 or value > 1:
-                raise _error(code, f"has a bending modulus {match.group(1)} outside "
-                                   "0 < eb <= 1 (eb0 is the paper's membrane: write paper)")
-            name = "eb"
+                raise _error(code, f"has a {what} '{text}' that is not a number") from None
+            if not math.isfinite(value) or value <= 0 or value > high:
+                raise _error(code, f"has a {what} {text} outside 0 < {name} <= {high:g} "
+                                   f"({name}0 is the configuration's: leave it out)")
         elif token in ("wrinkling", "imex"):
             name, value = token, True
         else:
@@ -68,13 +78,14 @@ def parse(code, key=CONFIG_KEY):
 
 
 def _spell(tokens):
-    words = [key if key != "eb" else f"eb{tokens[key]:g}" for key in ORDER if key in tokens]
+    words = [f"{key}{tokens[key]:g}" if key in VALUED else key for key in ORDER
+             if key in tokens]
     return "+".join(words) if words else PAPER
 
 
 def canonical(code, key=CONFIG_KEY):
-    """The code in its canonical spelling: tokens in the order wrinkling, eb, imex; eb's
-    value with %g (eb0.050+wrinkling -> wrinkling+eb0.05). A bad code raises ValueError
+    """The code in its canonical spelling: tokens in the order wrinkling, eb, rep, imex;
+    values with %g (eb0.050+wrinkling -> wrinkling+eb0.05). A bad code raises ValueError
     naming `key`."""
     return _spell(parse(code, key))
 
@@ -87,6 +98,8 @@ def options(code):
         out.append("membrane.wrinkling=true")
     if "eb" in tokens:
         out.append(f"membrane.bending={tokens['eb']:g}")
+    if "rep" in tokens:
+        out.append(f"suspension.repulsion_force={tokens['rep']:g}")
     if "imex" in tokens:
         # imex at the tolerance whose time error is a tenth of the mesh error
         # (time.tolerance auto, docs/method.md).
@@ -95,9 +108,9 @@ def options(code):
 
 
 def membrane_part(code):
-    """The membrane of a code without its time scheme (eb0.01+imex -> eb0.01): what
-    code_from_parameters reads back from the run."""
-    return _spell({k: v for k, v in parse(code).items() if k != "imex"})
+    """The membrane of a code without its repulsion and time scheme (eb0.01+rep5+imex ->
+    eb0.01): what code_from_parameters reads back from the run."""
+    return _spell({k: v for k, v in parse(code).items() if k not in ("rep", "imex")})
 
 
 def bending(code):
@@ -120,7 +133,7 @@ def code_from_parameters(parameters):
     """The membrane code of a run from its summary.json "parameters": membrane.wrinkling
     and membrane.bending ("paper", "wrinkling", "eb0.05", "wrinkling+eb0.01"). A summary
     of a version without these keys ran the paper's membrane. The time scheme is not part
-    of it: imex does not change the membrane."""
+    of it, nor the repulsion: neither changes the membrane."""
     tokens = {}
     if _flag(parameters.get("membrane.wrinkling", False)):
         tokens["wrinkling"] = True

@@ -33,6 +33,7 @@ def config_block(name="config.yaml"):
     ("eb0.05", ["membrane.bending=0.05"]),
     ("eb0.01+imex", ["membrane.bending=0.01", "time.scheme=imex", "time.tolerance=auto"]),
     ("eb0.01+wrinkling", ["membrane.wrinkling=true", "membrane.bending=0.01"]),
+    ("rep5+eb0.025", ["membrane.bending=0.025", "suspension.repulsion_force=5"]),
 ])
 def test_membrane_codes_give_capsim_options(code, options):
     assert membrane.options(code) == options
@@ -40,7 +41,7 @@ def test_membrane_codes_give_capsim_options(code, options):
 
 @pytest.mark.parametrize("code", ["bending", "eb", "ebx", "eb0", "eb-0.1", "eb2",
                                   "paper+eb0.01", "wrinkling+wrinkling", "eb0.01+eb0.02",
-                                  "Wrinkling", ""])
+                                  "Wrinkling", "", "rep", "rep0", "rep101", "rep5+rep1"])
 def test_bad_membrane_codes_name_the_key_and_the_forms(code):
     with pytest.raises(ValueError, match=r"sensitivity\.membranes: .*allowed: paper"):
         membrane.options(code)
@@ -49,6 +50,8 @@ def test_bad_membrane_codes_name_the_key_and_the_forms(code):
 def test_canonical_spelling():
     assert membrane.canonical("eb0.050+wrinkling") == "wrinkling+eb0.05"
     assert membrane.membrane_part("eb0.01+imex") == "eb0.01"
+    assert membrane.canonical("rep5.0+wrinkling") == "wrinkling+rep5"
+    assert membrane.membrane_part("imex+rep5+eb0.025") == "eb0.025"
 
 
 @pytest.mark.parametrize("parameters, code", [
@@ -270,9 +273,9 @@ def test_a_grid_point_with_another_membrane_has_its_own_run(tmp_path):
         extra.write_text(yaml.safe_dump(config))
         return snakemake(tmp_path, "all", "-n", configfile=str(extra))
 
-    proc = dry_run({"ca": 0.4, "phi": 0.2, "membrane": "wrinkling+eb0.01"})
+    proc = dry_run({"ca": 0.4, "phi": 0.2, "membrane": "rep5+wrinkling+eb0.01"})
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    assert "grid/ca0.4_phi0.2_M2_level1_seed1_wrinkling+eb0.01/summary.json" in proc.stdout
+    assert "grid/ca0.4_phi0.2_M2_level1_seed1_wrinkling+eb0.01+rep5/summary.json" in proc.stdout
     assert "mesh/ca0.4_phi0.2_M2_level1_seed1/summary.json" in proc.stdout
     proc = dry_run({"ca": 0.5, "phi": 0.2, "membrane": "eb0.01"})
     assert proc.returncode != 0
