@@ -13,11 +13,12 @@ StiffMembrane::StiffMembrane(const Membrane& membrane, int num_capsules,
     : membrane_(membrane), num_capsules_(num_capsules), quadrature_(quadrature),
       systems_(num_capsules) {}
 
-Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc) const {
+Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc,
+                                                    HessianPart part) const {
   const Topology& topo = membrane_.topology();
   std::vector<Vec3> grad;
   membrane_.energy_gradient(xc, grad);
-  const Matrix dq = membrane_.load_jacobian(xc, grad);
+  const Matrix dq = membrane_.load_jacobian(xc, grad, part);
   const std::vector<Mat3> b = self_mobility_blocks(topo, xc, quadrature_);
   // Row block i of B dq/dx is B_i times row block i of dq/dx.
   Matrix blocks(dq.rows(), dq.cols());
@@ -62,6 +63,7 @@ void StiffMembrane::prepare(const std::vector<Vec3>& x, double gamma_dt) {
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < num_capsules_; ++c) {
     auto system = std::make_unique<System>();
+    // With the elements' convex part: a compressed element's growing modes stay explicit.
     Matrix w = -gamma_dt * jacobian(&x[c * nn]);
     for (int k = 0; k < 3 * nn; ++k)
       w.coeffRef(k, k) += 1.0;

@@ -27,8 +27,10 @@ public:
   // sparse LU costs 5-20 times more), a sparse LU where that does not converge.
   void solve(std::vector<Vec3>& v);
 
-  // J_c of capsule c at its positions xc (3N x 3N), for tests and diagnostics.
-  Eigen::SparseMatrix<double> jacobian(const Vec3* xc) const;
+  // J_c of capsule c at its positions xc (3N x 3N), with the elements' convex part (what
+  // prepare() uses) or, for tests and diagnostics, their exact Hessians.
+  Eigen::SparseMatrix<double> jacobian(const Vec3* xc,
+                                       HessianPart part = HessianPart::positive) const;
 
 private:
   using Matrix = Eigen::SparseMatrix<double>;

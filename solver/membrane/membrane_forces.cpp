@@ -65,15 +65,16 @@ void Membrane::add_bending_jacobian(const Vec3* x, const std::vector<double>& ar
 }
 
 Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
-                                                    const std::vector<Vec3>& grad) const {
+                                                    const std::vector<Vec3>& grad,
+                                                    HessianPart part) const {
   const int n = topo_.num_nodes;
   const std::vector<double> area = node_areas(topo_, x);
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(2 * 81 * refs_.size() + 144 * hinges_.size());
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
-    const Matrix9 h =
-        membrane_element_hessian(refs_[e], gs_, wrinkling_, x[t[0]], x[t[1]], x[t[2]]);
+    const Matrix9 h = membrane_element_hessian(refs_[e], gs_, wrinkling_, x[t[0]],
+                                               x[t[1]], x[t[2]], part);
     // d(area_e)/dx_k = n_hat x (x_{k+2} - x_{k+1}) / 2; node i holds a third of it.
     const Vec3 an = area_vector2(x[t[0]], x[t[1]], x[t[2]]);
     const Vec3 n_hat = (1.0 / norm(an)) * an;

@@ -3,6 +3,7 @@
 // boundary integral (eq. 2.2). Sign (docs/conventions.md): q_i = (dW/dx_i) / A_i, so that
 // a stretched capsule in quiescent fluid relaxes.
 #include "membrane/bending.hpp"
+#include "membrane/neo_hookean_hessian.hpp"
 #include "membrane/tension_field.hpp"
 #include "mesh/icosphere.hpp"
 
@@ -48,8 +49,11 @@ public:
   // (row 3 i + a, column 3 j + b) with the sparsity of the mesh's node neighbours (and
   // their hinges' opposite nodes with bending). With bending, its Gauss-Newton part
   // (exact where the hinges keep their reference angles, as under a uniform inflation).
-  Eigen::SparseMatrix<double> load_jacobian(const Vec3* x,
-                                            const std::vector<Vec3>& grad) const;
+  // With HessianPart::positive, each element's Hessian is its positive semidefinite part
+  // (neo_hookean_hessian.hpp: what the implicit step needs where elements are
+  // compressed).
+  Eigen::SparseMatrix<double> load_jacobian(const Vec3* x, const std::vector<Vec3>& grad,
+                                            HessianPart part = HessianPart::exact) const;
 
   // Principal tensions and area dilatation of every element at positions x, of the
   // membrane's own energy (relaxed with wrinkling: then T2 >= 0).

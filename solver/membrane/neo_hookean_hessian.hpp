@@ -19,6 +19,7 @@
 #include "membrane/tension_field.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 
 namespace capsim {
 
@@ -84,37 +85,66 @@ inline Matrix6 wrinkled_edge_hessian(const ElementReference& ref, double gs,
   return 0.5 * gs * ref.area0 * (f2 * dl * dl.transpose() + f1 * ddl);
 }
 
+// d^2 W_e / de de of the element's energy, the paper's (eq. 2.11) or the relaxed one
+// (tension_field_element), in the edge coordinates e1 = x1 - x0, e2 = x2 - x0.
+inline Matrix6 membrane_edge_hessian(const ElementReference& ref, double gs,
+                                     bool wrinkling, Vec3 x0, Vec3 x1, Vec3 x2) {
+  const Eigen::Vector3d e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
+  const Eigen::Vector3d e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
+  if (!wrinkling)
+    return neo_hookean_edge_hessian(ref, gs, edge_invariants(ref, e1, e2));
+  const SquaredStretches s = squared_stretches(ref, e1.dot(e1), e1.dot(e2), e2.dot(e2));
+  switch (tension_state(s)) {
+  case TensionState::taut:
+    return neo_hookean_edge_hessian(ref, gs, edge_invariants(ref, e1, e2));
+  case TensionState::wrinkled:
+    return wrinkled_edge_hessian(ref, gs, s, edge_invariants(ref, e1, e2));
+  case TensionState::slack:
+    break;
+  }
+  return Matrix6::Zero();
+}
+
+// The positive semidefinite part of a symmetric Hessian: its negative eigenvalues set
+// to zero. Where an element is compressed, the paper's energy is not convex (the
+// membrane buckles there, at the element scale without bending): its Hessian has
+// negative eigenvalues, growing modes of the load's linearisation J. The implicit step
+// divides by (1 - gamma dt lambda) for each mode of J, so a growing mode with
+// dt lambda near 1/gamma is amplified without bound (at Ca 0.05, level 4, fixed steps
+// of 0.04-0.06 blew up within 1.4 strain units). Without the negative part the growing
+// modes are left to the explicit part, which follows them at their own rate, and the
+// Rosenbrock-W step keeps its order, which holds for any J (docs/method.md).
+template <int N>
+Eigen::Matrix<double, N, N> positive_part(const Eigen::Matrix<double, N, N>& h) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(h);
+  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+         eig.eigenvectors().transpose();
+}
+
 // d^2 W_e / dx_i dx_j for the element's nodes i, j in 0..2, as 3x3 blocks (3 i + a,
 // 3 j + b).
 inline Matrix9 neo_hookean_element_hessian(const ElementReference& ref, double gs,
                                            Vec3 x0, Vec3 x1, Vec3 x2) {
-  const Eigen::Vector3d e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
-  const Eigen::Vector3d e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
-  return node_hessian(neo_hookean_edge_hessian(ref, gs, edge_invariants(ref, e1, e2)));
+  return node_hessian(membrane_edge_hessian(ref, gs, false, x0, x1, x2));
 }
 
 // The same for the relaxed energy (tension_field_element).
 inline Matrix9 tension_field_element_hessian(const ElementReference& ref, double gs,
                                              Vec3 x0, Vec3 x1, Vec3 x2) {
-  const Eigen::Vector3d e1(x1.x - x0.x, x1.y - x0.y, x1.z - x0.z);
-  const Eigen::Vector3d e2(x2.x - x0.x, x2.y - x0.y, x2.z - x0.z);
-  const SquaredStretches s = squared_stretches(ref, e1.dot(e1), e1.dot(e2), e2.dot(e2));
-  switch (tension_state(s)) {
-  case TensionState::taut:
-    return node_hessian(neo_hookean_edge_hessian(ref, gs, edge_invariants(ref, e1, e2)));
-  case TensionState::wrinkled:
-    return node_hessian(wrinkled_edge_hessian(ref, gs, s, edge_invariants(ref, e1, e2)));
-  case TensionState::slack:
-    break;
-  }
-  return Matrix9::Zero();
+  return node_hessian(membrane_edge_hessian(ref, gs, true, x0, x1, x2));
 }
+
+// Which Hessian of the element energy: the exact one, or its positive semidefinite
+// part in the edge coordinates (positive_part; exact where the element is convex, as
+// everywhere on a stretched membrane).
+enum class HessianPart { exact, positive };
 
 // The Hessian of membrane_element.
 inline Matrix9 membrane_element_hessian(const ElementReference& ref, double gs,
-                                        bool wrinkling, Vec3 x0, Vec3 x1, Vec3 x2) {
-  return wrinkling ? tension_field_element_hessian(ref, gs, x0, x1, x2)
-                   : neo_hookean_element_hessian(ref, gs, x0, x1, x2);
+                                        bool wrinkling, Vec3 x0, Vec3 x1, Vec3 x2,
+                                        HessianPart part = HessianPart::exact) {
+  const Matrix6 h = membrane_edge_hessian(ref, gs, wrinkling, x0, x1, x2);
+  return node_hessian(part == HessianPart::positive ? positive_part(h) : h);
 }
 
 } // namespace capsim
