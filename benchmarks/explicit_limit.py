@@ -5,6 +5,7 @@ in simple shear that either reaches t_end or stops with a numerical failure (exi
 Usage: .venv/bin/python benchmarks/explicit_limit.py [--cases ...] [--capsim PATH]
            [--iterations 5]
 Cases: dilute_L2, dilute_L3, dilute_L4 (one capsule, Ca 0.2), dilute_L2_Ca0.05,
+dilute_L4_Ca0.05,
 bending_L2 (eb 0.05), bending_L3 (eb 0.025), repulsion_L2 (phi 0.4, Ca 0.1, 8 capsules,
 repulsion force 5). The limit found is bracketed by the largest stable and the smallest
 unstable C; instability grows from round-off, so a run near the limit may survive a
@@ -29,6 +30,7 @@ CASES = {
     "dilute_L2_Ca0.05": {"mesh_level": 2, "ca": 0.05, "t_end": 20},
     "dilute_L3": {"mesh_level": 3, "ca": 0.2, "t_end": 12},
     "dilute_L4": {"mesh_level": 4, "ca": 0.2, "t_end": 6},
+    "dilute_L4_Ca0.05": {"mesh_level": 4, "ca": 0.05, "t_end": 6},
     "bending_L2": {"mesh_level": 2, "ca": 0.6, "membrane.bending": 0.05, "t_end": 20},
     "bending_L3": {"mesh_level": 3, "ca": 0.6, "membrane.bending": 0.025, "t_end": 12},
     "repulsion_L2": {"mesh_level": 2, "ca": 0.1, "phi": 0.4, "capsules": 8,

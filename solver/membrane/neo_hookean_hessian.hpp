@@ -114,9 +114,8 @@ inline Matrix6 membrane_edge_hessian(const ElementReference& ref, double gs,
 // of 0.04-0.06 blew up within 1.4 strain units). Without the negative part the growing
 // modes are left to the explicit part, which follows them at their own rate, and the
 // Rosenbrock-W step keeps its order, which holds for any J (docs/method.md).
-template <int N>
-Eigen::Matrix<double, N, N> positive_part(const Eigen::Matrix<double, N, N>& h) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(h);
+inline Matrix6 positive_part(const Matrix6& h) {
+  const Eigen::SelfAdjointEigenSolver<Matrix6> eig(h);
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
          eig.eigenvectors().transpose();
 }
