@@ -33,9 +33,10 @@ ALLOWED = ("paper (alone), or wrinkling, eb<kb/(Gs a^2), 0 < eb <= 1>, rep<F0 in
            "mu gammadot a^2, 0 < F0 <= 100> and imex joined by + (e.g. wrinkling, eb0.05, "
            "wrinkling+eb0.01, eb0.025+rep5, eb0.01+imex)")
 PAPER = "paper"
-# The tokens with a value: the value's name in errors and capsim's range (lo, hi], which
-# run_options.cpp checks again.
-VALUED = {"eb": ("bending modulus", 1.0), "rep": ("repulsion force", 100.0)}
+# The tokens with a value: the value's name in errors, the upper end of capsim's range
+# (0, high] (run_options.cpp checks it again) and what to write instead of a zero.
+VALUED = {"eb": ("bending modulus", 1.0, "eb0 is the paper's membrane: write paper"),
+          "rep": ("repulsion force", 100.0, "leave rep out for run_options' repulsion")}
 VALUE = re.compile(r"^(eb|rep)([0-9.eE+-]+)$")
 ORDER = ("wrinkling", "eb", "rep", "imex")  # the canonical order of the tokens
 
@@ -59,14 +60,14 @@ def parse(code, key=CONFIG_KEY):
             raise _error(code, "uses paper with other tokens (paper is alone only)")
         if match:
             name, text = match.groups()
-            what, high = VALUED[name]
+            what, high, instead = VALUED[name]
             try:
                 value = float(text)
             except ValueError:
                 raise _error(code, f"has a {what} '{text}' that is not a number") from None
             if not math.isfinite(value) or value <= 0 or value > high:
                 raise _error(code, f"has a {what} {text} outside 0 < {name} <= {high:g} "
-                                   f"({name}0 is the configuration's: leave it out)")
+                                   f"({instead})")
         elif token in ("wrinkling", "imex"):
             name, value = token, True
         else:
