@@ -42,6 +42,19 @@ START = "capsim_job: start"  # the first line of each attempt in the log
 FAILED = "capsim_job: run "  # the last line of a failed one
 
 
+def option_value(value):
+    """A configuration value as capsim's `--set key=value` spells it: YAML's booleans as
+    true/false (capsim refuses Python's True), the rest as str() writes it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def set_options(options):
+    """`--set key=value` for each item of a mapping, in the order of its keys."""
+    return " ".join(f"--set {k}={option_value(v)}" for k, v in sorted(options.items()))
+
+
 def capsim_command(capsim, run_dir, fresh_args, resume_args):
     """The capsim command line for RUN_DIR, and whether it resumes."""
     if (Path(run_dir) / "checkpoint.h5").exists():

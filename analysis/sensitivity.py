@@ -30,6 +30,7 @@ from pathlib import Path
 import pandas as pd
 
 from analysis import membrane
+from analysis.capsim_job import option_value
 from analysis.read_run import read_summary, read_timeseries
 from analysis.statistics import propagated_standard_error
 from analysis.tables import markdown_table, run_row, stopped_row, write_table
@@ -145,12 +146,6 @@ def run_dir(run, results, dilute_results):
     return Path(results) / run.name
 
 
-def _value(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    return str(v)
-
-
 def capsim_options(run, run_options, threads):
     """The `capsim run` options of a run (without -o), as one string of --set options.
     A suspension run gets `run_options` (config["run_options"], as every suspension run
@@ -158,7 +153,8 @@ def capsim_options(run, run_options, threads):
     with (workflow/rules/dilute.smk). The membrane keys are always set, so that the code
     alone says which membrane a run carries whatever run_options hold; then the code's
     options (imex: the time scheme)."""
-    keys = {k: _value(v) for k, v in sorted(run_options.items())} if run.phi > 0 else {}
+    keys = ({k: option_value(v) for k, v in sorted(run_options.items())}
+            if run.phi > 0 else {})
     keys |= {"membrane.wrinkling": "false", "membrane.bending": "0"}
     keys |= dict(option.split("=", 1) for option in membrane.options(run.membrane))
     keys |= {"ca": f"{run.ca:g}", "mesh_level": str(run.level), "t_end": f"{run.t_end:g}",

@@ -9,6 +9,7 @@ import functools
 from modulefinder import ModuleFinder
 
 from analysis import membrane as membrane_codes
+from analysis.capsim_job import set_options
 
 SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
 # {membrane}: "" for the paper's membrane, else "_" and the code (run_name()).
@@ -89,7 +90,7 @@ def multipole_tables():
 
 
 def run_option_sets():
-    return " ".join(f"--set {k}={v}" for k, v in sorted(config["run_options"].items()))
+    return set_options(config["run_options"])
 
 
 @functools.cache
