@@ -14,8 +14,8 @@ import yaml
 
 from analysis import membrane
 from analysis.tables import COLUMNS, run_row, stopped_row
-from analysis.sensitivity import (changes_against_paper, dilute_references,
-                                  mark_smallest_eb, plan, run_names)
+from analysis.sensitivity import (Run, capsim_options, changes_against_paper,
+                                  dilute_references, mark_smallest_eb, plan, run_names)
 from test_workflow_ci import ROOT, snakemake, pytestmark  # noqa: F401 (skips without capsim)
 
 sys.path.insert(0, str(ROOT / "figures"))
@@ -37,6 +37,17 @@ def config_block(name="config.yaml"):
 ])
 def test_membrane_codes_give_capsim_options(code, options):
     assert membrane.options(code) == options
+
+
+def test_a_code_overrides_the_run_options():
+    run = Run("suspension", 0.6, 0.4, 3, "eb0.025+rep5", 27, 1, 20.0, (10, 20))
+    options = capsim_options(
+        run, {"suspension.repulsion_force": 1, "membrane.wrinkling": True}, threads=2)
+    assert "--set suspension.repulsion_force=5" in options
+    assert "repulsion_force=1" not in options
+    # the code's membrane replaces run_options' (the paper's membrane keys are always set)
+    assert "--set membrane.wrinkling=false" in options
+    assert "--set membrane.bending=0.025" in options
 
 
 @pytest.mark.parametrize("code", ["bending", "eb", "ebx", "eb0", "eb-0.1", "eb2",
