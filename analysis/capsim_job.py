@@ -51,8 +51,8 @@ def option_value(value):
 
 
 def set_options(options):
-    """`--set key=value` for each item of a mapping, in the order of its keys."""
-    return " ".join(f"--set {k}={option_value(v)}" for k, v in sorted(options.items()))
+    """`--set key=value` for each item of a mapping, in its order."""
+    return " ".join(f"--set {k}={option_value(v)}" for k, v in options.items())
 
 
 def capsim_command(capsim, run_dir, fresh_args, resume_args):

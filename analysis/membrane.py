@@ -16,8 +16,8 @@ between capsules or another time scheme:
 joined by "+", e.g. wrinkling+eb0.01, eb0.025+rep5 or eb0.01+imex. rep is for the dense
 points whose capsules come into contact at the configuration's repulsion
 (docs/suspensions.md, "Hard cases"); it overrides run_options' suspension.repulsion_force
-for that run only. The canonical spelling (canonical()) orders the tokens as above and writes
-the values with %g; it is what run folders, tables and figure footers show.
+for that run only. The canonical spelling (canonical()) orders the tokens as above and
+writes the values with %g; it is what run folders, tables and figure footers show.
 code_from_parameters() reads the membrane part back from a run's summary.json
 parameters, so a table says which membrane each run carried even where it was not
 planned by code (every study's table, analysis.tables).

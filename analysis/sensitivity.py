@@ -30,7 +30,7 @@ from pathlib import Path
 import pandas as pd
 
 from analysis import membrane
-from analysis.capsim_job import option_value
+from analysis.capsim_job import set_options
 from analysis.read_run import read_summary, read_timeseries
 from analysis.statistics import propagated_standard_error
 from analysis.tables import markdown_table, run_row, stopped_row, write_table
@@ -153,8 +153,7 @@ def capsim_options(run, run_options, threads):
     with (workflow/rules/dilute.smk). The membrane keys are always set, so that the code
     alone says which membrane a run carries whatever run_options hold; then the code's
     options (imex: the time scheme)."""
-    keys = ({k: option_value(v) for k, v in sorted(run_options.items())}
-            if run.phi > 0 else {})
+    keys = dict(sorted(run_options.items())) if run.phi > 0 else {}
     keys |= {"membrane.wrinkling": "false", "membrane.bending": "0"}
     keys |= dict(option.split("=", 1) for option in membrane.options(run.membrane))
     keys |= {"ca": f"{run.ca:g}", "mesh_level": str(run.level), "t_end": f"{run.t_end:g}",
@@ -163,7 +162,7 @@ def capsim_options(run, run_options, threads):
     if run.phi > 0:
         keys |= {"phi": f"{run.phi:g}", "capsules": str(run.capsules),
                  "seed": str(run.seed)}
-    return " ".join(f"--set {k}={v}" for k, v in keys.items())
+    return set_options(keys)
 
 
 def run_names(block, dilute_block):

@@ -90,7 +90,7 @@ def multipole_tables():
 
 
 def run_option_sets():
-    return set_options(config["run_options"])
+    return set_options(dict(sorted(config["run_options"].items())))
 
 
 @functools.cache
