@@ -244,10 +244,17 @@ const std::vector<Param>& parameters() {
       auto_or_real(
           "time.tolerance", {0, 1, false, false}, kAutomatic,
           [](RunOptions& o) -> double& { return o.time.tolerance; },
-          "adaptive step: the largest node position error one step may make, in capsule "
-          "radii (embedded estimate); dt is then only the first step. 0 = a fixed step "
-          "dt; auto = 0 for heun, for imex the tolerance whose time error stays below a "
-          "tenth of the mesh error at mesh_level (docs/method.md)"),
+          "adaptive step: the largest position error one step may make (time.error_norm "
+          "of the node errors), in capsule radii (embedded estimate); dt is then only "
+          "the first step. 0 = a fixed step dt; auto = 0 for heun, for imex the "
+          "tolerance whose time error stays below a tenth of the mesh error at "
+          "mesh_level with the max norm (docs/method.md)"),
+      choice(
+          "time.error_norm", {"max", "rms"},
+          [](RunOptions& o) -> std::string& { return o.time.error_norm; },
+          "how the adaptive step measures a step's node errors: max (the largest over "
+          "all nodes) or rms (the root mean square over each capsule's nodes, the "
+          "largest over capsules)"),
       real(
           "t_end", {0, kBig, true, false},
           [](RunOptions& o) -> double& { return o.t_end; },

@@ -31,7 +31,8 @@ struct EwaldOptions {
 
 struct TimeOptions {
   std::string scheme = "heun"; // heun (explicit) or imex (linearly implicit)
-  double tolerance = 0;        // largest node error per step, in a; 0 = a fixed step
+  double tolerance = 0;        // largest step error (error_norm), in a; 0 = a fixed step
+  std::string error_norm = "max"; // of the node errors: max or rms (per capsule)
 };
 
 struct SuspensionOptions {

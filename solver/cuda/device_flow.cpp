@@ -194,7 +194,8 @@ void DeviceFlow::velocity(const std::vector<Vec3>& x, double t,
   impl_->u0.download(u);
 }
 
-double DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
+double DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt,
+                             ErrorNorm norm) const {
   Impl& s = *impl_;
   const int n = s.mesh.num_nodes();
   s.x.upload(x);
@@ -206,7 +207,7 @@ double DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   std::vector<Vec3> u0, u1;
   s.u0.download(u0);
   s.u1.download(u1);
-  return heun_error(u0, u1, dt);
+  return heun_error(u0, u1, dt, num_capsules(), norm);
 }
 
 } // namespace capsim

@@ -46,14 +46,15 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
   return m.str();
 }
 
-double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt) {
-  double err = 0;
+double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt,
+                  int num_capsules, ErrorNorm n) {
+  std::vector<Vec3> e(u0.size());
   for (size_t i = 0; i < u0.size(); ++i)
-    err = std::max(err, norm(u1[i] - u0[i]));
-  return 0.5 * dt * err;
+    e[i] = (0.5 * dt) * (u1[i] - u0[i]);
+  return step_error(e, num_capsules, n);
 }
 
-double Flow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
+double Flow::heun_step(std::vector<Vec3>& x, double t, double dt, ErrorNorm n) const {
   std::vector<Vec3> u0, u1, xs(x.size());
   velocity(x, t, u0);
   for (size_t i = 0; i < x.size(); ++i)
@@ -61,7 +62,7 @@ double Flow::heun_step(std::vector<Vec3>& x, double t, double dt) const {
   velocity(xs, t + dt, u1);
   for (size_t i = 0; i < x.size(); ++i)
     x[i] += (0.5 * dt) * (u0[i] + u1[i]);
-  return heun_error(u0, u1, dt);
+  return heun_error(u0, u1, dt, num_capsules(), n);
 }
 
 std::vector<double> Flow::energy_gradient(const std::vector<Vec3>& x,

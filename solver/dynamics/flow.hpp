@@ -6,6 +6,7 @@
 // factory (run/flow_factory.hpp) checks a backend's capabilities against the set-up and
 // builds it.
 #include "dynamics/repulsion.hpp"
+#include "dynamics/step_error.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/ewald_setup.hpp"
 #include "stokes/single_layer.hpp"
@@ -53,8 +54,10 @@ struct FlowCapabilities {
 std::string unsupported_by(const FlowSetup& setup, const FlowCapabilities& caps,
                            Backend backend);
 
-// dt/2 max_i |u1_i - u0_i|: Heun's embedded error estimate from its two stages.
-double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt);
+// Heun's embedded error estimate from its two stages: the norm n of the node errors
+// dt/2 (u1_i - u0_i) of num_capsules capsules.
+double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt,
+                  int num_capsules, ErrorNorm n);
 
 class Flow {
 public:
@@ -76,8 +79,10 @@ public:
 
   // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta):
   // x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t + dt)). Returns the embedded
-  // error estimate, the largest node distance to the Euler step x*: dt/2 |u1 - u0|.
-  virtual double heun_step(std::vector<Vec3>& x, double t, double dt) const;
+  // error estimate, the norm n of the node distances to the Euler step x*:
+  // dt/2 |u1 - u0| (dynamics/step_error.hpp).
+  virtual double heun_step(std::vector<Vec3>& x, double t, double dt,
+                           ErrorNorm n = ErrorNorm::max) const;
 
   // On the CPU for every backend (the diagnostics need them between steps):
   // dW/dx of all capsules (capsule after capsule), returning the energy of each;

@@ -9,7 +9,7 @@
 namespace capsim {
 
 struct StepController {
-  double tolerance = 0; // largest node error per step, in a
+  double tolerance = 0; // largest step error (dynamics/step_error.hpp), in a
   double safety = 0.9;  // aim below the tolerance
   double min_factor = 0.2, max_factor = 2.0;
 

@@ -19,9 +19,9 @@ std::string to_string(TimeScheme s) {
   return s == TimeScheme::heun ? "heun" : "imex";
 }
 
-ImexStepper::ImexStepper(const Flow& flow)
-    : flow_(flow), stiff_(flow.membrane(), flow.num_capsules(), flow.setup().quadrature) {
-}
+ImexStepper::ImexStepper(const Flow& flow, ErrorNorm norm)
+    : flow_(flow), stiff_(flow.membrane(), flow.num_capsules(), flow.setup().quadrature),
+      norm_(norm) {}
 
 double ImexStepper::step(std::vector<Vec3>& x, double t, double dt) {
   const double gamma = 1.0 + 1.0 / std::sqrt(2.0);
@@ -35,18 +35,19 @@ double ImexStepper::step(std::vector<Vec3>& x, double t, double dt) {
   for (size_t i = 0; i < x.size(); ++i)
     k2[i] -= 2.0 * k1[i];
   stiff_.solve(k2);
-  double err = 0;
+  std::vector<Vec3>& error = xs; // x + dt k1 is no longer needed
   for (size_t i = 0; i < x.size(); ++i) {
     x[i] += dt * (1.5 * k1[i] + 0.5 * k2[i]);
-    err = std::max(err, norm(k1[i] + k2[i]));
+    error[i] = (0.5 * dt) * (k1[i] + k2[i]);
   }
-  return 0.5 * dt * err;
+  return step_error(error, flow_.num_capsules(), norm_);
 }
 
-std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow) {
+std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow,
+                                      ErrorNorm norm) {
   if (scheme == TimeScheme::imex)
-    return std::make_unique<ImexStepper>(flow);
-  return std::make_unique<HeunStepper>(flow);
+    return std::make_unique<ImexStepper>(flow, norm);
+  return std::make_unique<HeunStepper>(flow, norm);
 }
 
 } // namespace capsim

@@ -28,32 +28,37 @@ class Stepper {
 public:
   virtual ~Stepper() = default;
   // Advances x from t by dt; returns the embedded estimate of the local error, the
-  // largest node distance between the scheme's step and its first-order companion's.
+  // norm (dynamics/step_error.hpp) of the node distances between the scheme's step and
+  // its first-order companion's.
   virtual double step(std::vector<Vec3>& x, double t, double dt) = 0;
 };
 
 class HeunStepper : public Stepper {
 public:
-  explicit HeunStepper(const Flow& flow) : flow_(flow) {}
+  explicit HeunStepper(const Flow& flow, ErrorNorm norm = ErrorNorm::max)
+      : flow_(flow), norm_(norm) {}
   double step(std::vector<Vec3>& x, double t, double dt) override {
-    return flow_.heun_step(x, t, dt);
+    return flow_.heun_step(x, t, dt, norm_);
   }
 
 private:
   const Flow& flow_;
+  ErrorNorm norm_;
 };
 
 class ImexStepper : public Stepper {
 public:
-  explicit ImexStepper(const Flow& flow);
-  // The first-order companion is x + dt k1, so the estimate is dt/2 |k1 + k2|.
+  explicit ImexStepper(const Flow& flow, ErrorNorm norm = ErrorNorm::max);
+  // The first-order companion is x + dt k1, so the node errors are dt/2 (k1 + k2).
   double step(std::vector<Vec3>& x, double t, double dt) override;
 
 private:
   const Flow& flow_;
   StiffMembrane stiff_;
+  ErrorNorm norm_;
 };
 
-std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow);
+std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow,
+                                      ErrorNorm norm = ErrorNorm::max);
 
 } // namespace capsim

@@ -99,7 +99,8 @@ public:
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
         flow_(make_flow(parse_backend(o.backend),
                         flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))),
-        stepper_(make_stepper(parse_time_scheme(o.time.scheme), *flow_)) {
+        stepper_(make_stepper(parse_time_scheme(o.time.scheme), *flow_,
+                              parse_error_norm(o.time.error_norm))) {
     dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending);
     control_.tolerance = o.time.tolerance;
     // A fixed step counts steps between outputs; an adaptive one counts samples.

@@ -1,6 +1,7 @@
 // The adaptive step: the controller's rule, and a run whose first step is far too large
 // (rejected and retried, samples still on their grid).
 #include "dynamics/step_controller.hpp"
+#include "dynamics/step_error.hpp"
 #include "io/timeseries_file.hpp"
 
 #include <catch2/catch.hpp>
@@ -28,6 +29,26 @@ TEST_CASE("adaptive: the controller accepts within the tolerance and scales the 
   CHECK(c.next(0.1, 1.0) == Approx(0.02));          // bounded shrinking
   CHECK(c.next(0.1, std::nan("")) == Approx(0.02)); // a broken step shrinks most
   CHECK(c.next(0.1, HUGE_VAL) == Approx(0.02));
+}
+
+TEST_CASE("adaptive: the max norm is the largest node error, the rms norm the largest "
+          "capsule's root mean square, and a NaN reaches the controller",
+          "[adaptive]") {
+  // Two capsules of four nodes: one node of the first is off by 0.4 (0.3, 0, 0.4 -> 0.5),
+  // every node of the second by 0.3.
+  std::vector<Vec3> e(8, Vec3{0.3, 0, 0});
+  for (int i = 0; i < 4; ++i)
+    e[i] = Vec3{0, 0, 0};
+  e[2] = Vec3{0.3, 0, 0.4};
+  CHECK(step_error(e, 2, ErrorNorm::max) == Approx(0.5));
+  CHECK(step_error(e, 2, ErrorNorm::rms) == Approx(0.3)); // the first: 0.5 / 2 = 0.25
+  CHECK(step_error(e, 1, ErrorNorm::rms) == Approx(std::sqrt((0.25 + 4 * 0.09) / 8)));
+  e[5].y = std::nan("");
+  CHECK(std::isnan(step_error(e, 2, ErrorNorm::max)));
+  CHECK(std::isnan(step_error(e, 2, ErrorNorm::rms)));
+  CHECK(parse_error_norm("rms") == ErrorNorm::rms);
+  CHECK_THROWS_WITH(parse_error_norm("l2"),
+                    Catch::Contains("time.error_norm") && Catch::Contains("{max, rms}"));
 }
 
 TEST_CASE("adaptive: a step far too large is rejected and retried, and samples stay on "
