@@ -8,6 +8,8 @@ Usage: .venv/bin/python benchmarks/time_scheme_study.py [--cases dilute,table1,.
 Cases (names, or a comma-separated list of them):
   dilute     one capsule, Ca 0.2, 0.4, 0.6 at mesh levels 2, 3, 4, t = 20, window
              [10, 20]: Heun at the default step against IMEX at time.tolerance 1e-3
+  dilute2    the dilute table's level 2 (Ca 0.2, 0.4, 0.6) with IMEX also at the tighter
+             time.tolerance 3e-4 and 1e-4 (the same folders as `dilute` for the rest)
   dilute05   one capsule, Ca 0.05, level 4: Heun at dt_safety 1 (the default step, the
              best explicit run) against IMEX at time.tolerance 1e-3, with the max and
              the rms error norm (time.error_norm)
@@ -52,6 +54,12 @@ def cases(name):
             for ca in (0.2, 0.4, 0.6):
                 yield (f"dilute_L{level}_Ca{ca}", {**window, "mesh_level": level, "ca": ca},
                        [("heun", HEUN), ("imex", IMEX)])
+    elif name == "dilute2":
+        for ca in (0.2, 0.4, 0.6):
+            yield (f"dilute_L2_Ca{ca}", {**window, "mesh_level": 2, "ca": ca},
+                   [("heun", HEUN), ("imex", IMEX),
+                    ("imex_3e-4", {**IMEX, "time.tolerance": 3e-4}),
+                    ("imex_1e-4", {**IMEX, "time.tolerance": 1e-4})])
     elif name == "dilute05":
         yield ("dilute_L4_Ca0.05", {**window, "mesh_level": 4, "ca": 0.05},
                [("heun_1", HEUN_1), ("imex", IMEX), ("imex_rms", imex_rms(1e-3))])
