@@ -36,8 +36,5 @@ DeviceFlow::~DeviceFlow() = default;
 
 void DeviceFlow::traction(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
 void DeviceFlow::velocity(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
-double DeviceFlow::heun_step(std::vector<Vec3>&, double, double, ErrorNorm) const {
-  return 0;
-}
 
 } // namespace capsim

@@ -18,8 +18,8 @@ struct DeviceFlow::Impl {
   // Accurate quadrature: options plus the Gauss-Legendre rule of the polar integrals.
   DeviceArray<double> gl_x, gl_w;
   NearRule rule;
-  // Work arrays: positions, the Heun stage, velocities, traction, sources.
-  DeviceArray<Vec3> x, xs, u0, u1, q, corner_grad, y, f;
+  // Work arrays: positions, velocities, traction, sources.
+  DeviceArray<Vec3> x, u0, q, corner_grad, y, f;
   DeviceArray<double> area;
   DeviceArray<TriangleLoad> loads;
   DeviceArray<cuda::TriangleBounds> bounds;
@@ -88,7 +88,7 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup)
   s.rule.gl_w = s.gl_w.data();
   s.rule.gl_n = int(gl.x.size());
   const size_t n = size_t(s.mesh.num_nodes()), nt = size_t(s.mesh.num_triangles());
-  for (auto* a : {&s.x, &s.xs, &s.u0, &s.u1, &s.q})
+  for (auto* a : {&s.x, &s.u0, &s.q})
     a->resize(n);
   for (auto* a : {&s.corner_grad, &s.y, &s.f, &s.y_binned, &s.f_binned, &s.bin_scratch})
     a->resize(3 * nt);
@@ -192,22 +192,6 @@ void DeviceFlow::velocity(const std::vector<Vec3>& x, double t,
   impl_->x.upload(x);
   impl_->compute_velocity(impl_->x.data(), t, impl_->u0.data());
   impl_->u0.download(u);
-}
-
-double DeviceFlow::heun_step(std::vector<Vec3>& x, double t, double dt,
-                             ErrorNorm norm) const {
-  Impl& s = *impl_;
-  const int n = s.mesh.num_nodes();
-  s.x.upload(x);
-  s.compute_velocity(s.x.data(), t, s.u0.data());
-  cuda::advance(n, s.x.data(), dt, s.u0.data(), s.xs.data());
-  s.compute_velocity(s.xs.data(), t + dt, s.u1.data());
-  cuda::heun_combine(n, 0.5 * dt, s.u0.data(), s.u1.data(), s.x.data());
-  s.x.download(x);
-  std::vector<Vec3> u0, u1;
-  s.u0.download(u0);
-  s.u1.download(u1);
-  return heun_error(u0, u1, dt, num_capsules(), norm);
 }
 
 } // namespace capsim

@@ -39,9 +39,6 @@ public:
                 std::vector<Vec3>& q) const override;
   void velocity(const std::vector<Vec3>& x, double t,
                 std::vector<Vec3>& u) const override;
-  // Both stages on the device; the stage velocities come back for the error estimate.
-  double heun_step(std::vector<Vec3>& x, double t, double dt,
-                   ErrorNorm n = ErrorNorm::max) const override;
 
 private:
   struct Impl;

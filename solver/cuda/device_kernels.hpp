@@ -45,10 +45,6 @@ void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,
                       TriangleLoad* loads, TriangleBounds* bounds, Vec3* y, Vec3* f);
 // u <- -u / (8 pi) + (shear_rate x.y, 0, 0): the single-layer factor and the shear flow.
 void finish_velocity(int n, const Vec3* x, double shear_rate, Vec3* u);
-// out <- x + a u
-void advance(int n, const Vec3* x, double a, const Vec3* u, Vec3* out);
-// x <- x + h (u0 + u1)
-void heun_combine(int n, double h, const Vec3* u0, const Vec3* u1, Vec3* x);
 
 // --- single_layer_kernels.cu -----------------------------------------------------------
 // u[i] = sum_g J(x_i - y_g) f_g over all m point sources (free space).

@@ -75,19 +75,6 @@ __global__ void finish_velocity_kernel(int n, const Vec3* x, double shear_rate, 
   u[i] = v;
 }
 
-__global__ void advance_kernel(int n, const Vec3* x, double a, const Vec3* u, Vec3* out) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n)
-    out[i] = x[i] + a * u[i];
-}
-
-__global__ void heun_combine_kernel(int n, double h, const Vec3* u0, const Vec3* u1,
-                                    Vec3* x) {
-  const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n)
-    x[i] += h * (u0[i] + u1[i]);
-}
-
 } // namespace
 
 void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3* x,
@@ -114,16 +101,6 @@ void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,
 void finish_velocity(int n, const Vec3* x, double shear_rate, Vec3* u) {
   CAPSIM_LAUNCH(finish_velocity_kernel, blocks_for(n), kBlock)(n, x, shear_rate, u);
   check_launch("finish_velocity");
-}
-
-void advance(int n, const Vec3* x, double a, const Vec3* u, Vec3* out) {
-  CAPSIM_LAUNCH(advance_kernel, blocks_for(n), kBlock)(n, x, a, u, out);
-  check_launch("advance");
-}
-
-void heun_combine(int n, double h, const Vec3* u0, const Vec3* u1, Vec3* x) {
-  CAPSIM_LAUNCH(heun_combine_kernel, blocks_for(n), kBlock)(n, h, u0, u1, x);
-  check_launch("heun_combine");
 }
 
 } // namespace capsim::cuda

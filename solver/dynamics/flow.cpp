@@ -1,5 +1,7 @@
 #include "dynamics/flow.hpp"
 
+#include "dynamics/time_stepping.hpp"
+
 #include <algorithm>
 #include <sstream>
 #include <stdexcept>
@@ -46,6 +48,12 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
   return m.str();
 }
 
+void Flow::volume_preserving_velocity(const std::vector<Vec3>& x, double t,
+                                      std::vector<Vec3>& u) const {
+  velocity(x, t, u);
+  remove_volume_rate(membrane().topology(), num_capsules(), x, u);
+}
+
 double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt,
                   int num_capsules, ErrorNorm n) {
   std::vector<Vec3> e(u0.size());
@@ -56,10 +64,10 @@ double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, doub
 
 double Flow::heun_step(std::vector<Vec3>& x, double t, double dt, ErrorNorm n) const {
   std::vector<Vec3> u0, u1, xs(x.size());
-  velocity(x, t, u0);
+  volume_preserving_velocity(x, t, u0);
   for (size_t i = 0; i < x.size(); ++i)
     xs[i] = x[i] + dt * u0[i];
-  velocity(xs, t + dt, u1);
+  volume_preserving_velocity(xs, t + dt, u1);
   for (size_t i = 0; i < x.size(); ++i)
     x[i] += (0.5 * dt) * (u0[i] + u1[i]);
   return heun_error(u0, u1, dt, num_capsules(), n);

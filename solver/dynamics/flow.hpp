@@ -77,12 +77,17 @@ public:
   virtual void velocity(const std::vector<Vec3>& x, double t,
                         std::vector<Vec3>& u) const = 0;
 
-  // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta):
-  // x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) + u(x*, t + dt)). Returns the embedded
-  // error estimate, the norm n of the node distances to the Euler step x*:
-  // dt/2 |u1 - u0| (dynamics/step_error.hpp).
-  virtual double heun_step(std::vector<Vec3>& x, double t, double dt,
-                           ErrorNorm n = ErrorNorm::max) const;
+  // The velocity the time schemes integrate: u with each capsule's volume rate removed
+  // (remove_volume_rate, dynamics/time_stepping.hpp).
+  void volume_preserving_velocity(const std::vector<Vec3>& x, double t,
+                                  std::vector<Vec3>& u) const;
+
+  // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta) on the
+  // volume-preserving velocity u: x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) +
+  // u(x*, t + dt)). Returns the embedded error estimate, the norm n of the node
+  // distances to the Euler step x*: dt/2 |u1 - u0| (dynamics/step_error.hpp).
+  double heun_step(std::vector<Vec3>& x, double t, double dt,
+                   ErrorNorm n = ErrorNorm::max) const;
 
   // On the CPU for every backend (the diagnostics need them between steps):
   // dW/dx of all capsules (capsule after capsule), returning the energy of each;

@@ -27,11 +27,11 @@ double ImexStepper::step(std::vector<Vec3>& x, double t, double dt) {
   const double gamma = 1.0 + 1.0 / std::sqrt(2.0);
   stiff_.prepare(x, gamma * dt);
   std::vector<Vec3> k1, k2, xs(x.size());
-  flow_.velocity(x, t, k1);
+  flow_.volume_preserving_velocity(x, t, k1);
   stiff_.solve(k1);
   for (size_t i = 0; i < x.size(); ++i)
     xs[i] = x[i] + dt * k1[i];
-  flow_.velocity(xs, t + dt, k2);
+  flow_.volume_preserving_velocity(xs, t + dt, k2);
   for (size_t i = 0; i < x.size(); ++i)
     k2[i] -= 2.0 * k1[i];
   stiff_.solve(k2);

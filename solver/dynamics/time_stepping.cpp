@@ -32,6 +32,29 @@ std::vector<double> enforce_volume(const Topology& topo, int num_capsules,
   return drift;
 }
 
+void remove_volume_rate(const Topology& topo, int num_capsules,
+                        const std::vector<Vec3>& x, std::vector<Vec3>& u) {
+  const int nn = topo.num_nodes;
+  for (int c = 0; c < num_capsules; ++c) {
+    const Vec3* xc = &x[c * nn];
+    Vec3* uc = &u[c * nn];
+    std::vector<Vec3> g(nn); // 6 dV/dx_i
+    for (const auto& t : topo.triangles) {
+      const Vec3 an = area_vector2(xc[t[0]], xc[t[1]], xc[t[2]]);
+      for (int k : t)
+        g[k] += an;
+    }
+    double rate = 0, along_normals = 0;
+    for (int i = 0; i < nn; ++i) {
+      rate += dot(g[i], uc[i]);
+      along_normals += norm(g[i]);
+    }
+    const double r = rate / along_normals;
+    for (int i = 0; i < nn; ++i)
+      uc[i] -= (r / norm(g[i])) * g[i];
+  }
+}
+
 StateFault find_fault(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
                       double max_extent) {
   const int nn = topo.num_nodes;

@@ -51,6 +51,47 @@ TEST_CASE("dynamics: the volume constraint restores the reference volume", "[dyn
   CHECK(std::abs(enclosed_volume(s.topology, x.data()) - v0[0]) / v0[0] < 1e-12);
 }
 
+TEST_CASE("dynamics: the velocity with the volume rate removed keeps each capsule's "
+          "volume to second order, and leaves a volume-preserving velocity alone",
+          "[dynamics]") {
+  const Icosphere s = make_icosphere(2);
+  const int nn = s.topology.num_nodes;
+  // Two capsules: the first deformed and inflating (u = 0.3 x + a swirl), the second a
+  // rigid rotation, which keeps the discrete volume exactly.
+  std::vector<Vec3> x, u;
+  for (const Vec3& p : testing::stretched(s.positions, 1.2, 0.9, 0.95, 0.3)) {
+    x.push_back(p);
+    u.push_back(0.3 * p + Vec3{-p.y, p.x, 0.2 * p.x * p.z});
+  }
+  for (const Vec3& p : s.positions) {
+    x.push_back(p + Vec3{3, 0, 0});
+    u.push_back(Vec3{-p.z, 0, p.x});
+  }
+  const std::vector<Vec3> rotation(u.begin() + nn, u.end());
+  remove_volume_rate(s.topology, 2, x, u);
+  for (int c = 0; c < 2; ++c) {
+    const Vec3* xc = &x[c * nn];
+    const double v = enclosed_volume(s.topology, xc);
+    // V(x + e u) - V(x) = O(e^2) once dV/dt = 0: halving e quarters the change.
+    double change[2];
+    for (int k = 0; k < 2; ++k) {
+      const double e = k == 0 ? 1e-3 : 5e-4;
+      std::vector<Vec3> moved(xc, xc + nn);
+      for (int i = 0; i < nn; ++i)
+        moved[i] += e * u[c * nn + i];
+      change[k] = std::abs(enclosed_volume(s.topology, moved.data()) - v) / v;
+    }
+    INFO("capsule " << c << ": relative volume change " << change[0] << ", "
+                    << change[1]);
+    CHECK(change[0] < 1e-5);
+    CHECK(change[0] / change[1] == Approx(4).epsilon(0.05));
+  }
+  double moved_rotation = 0;
+  for (int i = 0; i < nn; ++i)
+    moved_rotation = std::max(moved_rotation, norm(u[nn + i] - rotation[i]));
+  CHECK(moved_rotation < 1e-12);
+}
+
 TEST_CASE("dynamics: blow-up and NaN stop with a clear message", "[dynamics]") {
   Icosphere s = make_icosphere(2);
   const Membrane membrane(s.topology, s.positions.data(), 1.0);
