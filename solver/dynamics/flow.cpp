@@ -48,18 +48,24 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
   return m.str();
 }
 
-void Flow::volume_preserving_velocity(const std::vector<Vec3>& x, double t,
-                                      std::vector<Vec3>& u) const {
-  velocity(x, t, u);
-  remove_volume_rate(membrane().topology(), num_capsules(), x, u);
-}
+namespace {
 
+// Heun's embedded error estimate from its two stages: the norm n of the node errors
+// dt/2 (u1_i - u0_i) of num_capsules capsules.
 double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt,
                   int num_capsules, ErrorNorm n) {
   std::vector<Vec3> e(u0.size());
   for (size_t i = 0; i < u0.size(); ++i)
     e[i] = (0.5 * dt) * (u1[i] - u0[i]);
   return step_error(e, num_capsules, n);
+}
+
+} // namespace
+
+void Flow::volume_preserving_velocity(const std::vector<Vec3>& x, double t,
+                                      std::vector<Vec3>& u) const {
+  velocity(x, t, u);
+  remove_volume_rate(membrane().topology(), num_capsules(), x, u);
 }
 
 double Flow::heun_step(std::vector<Vec3>& x, double t, double dt, ErrorNorm n) const {

@@ -54,11 +54,6 @@ struct FlowCapabilities {
 std::string unsupported_by(const FlowSetup& setup, const FlowCapabilities& caps,
                            Backend backend);
 
-// Heun's embedded error estimate from its two stages: the norm n of the node errors
-// dt/2 (u1_i - u0_i) of num_capsules capsules.
-double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, double dt,
-                  int num_capsules, ErrorNorm n);
-
 class Flow {
 public:
   explicit Flow(const FlowSetup& setup) : setup_(setup) {}
