@@ -38,12 +38,7 @@ void remove_volume_rate(const Topology& topo, int num_capsules,
   for (int c = 0; c < num_capsules; ++c) {
     const Vec3* xc = &x[c * nn];
     Vec3* uc = &u[c * nn];
-    std::vector<Vec3> g(nn); // 6 dV/dx_i
-    for (const auto& t : topo.triangles) {
-      const Vec3 an = area_vector2(xc[t[0]], xc[t[1]], xc[t[2]]);
-      for (int k : t)
-        g[k] += an;
-    }
+    const std::vector<Vec3> g = node_area_vectors(topo, xc); // 6 dV/dx_i
     double rate = 0, along_normals = 0;
     for (int i = 0; i < nn; ++i) {
       rate += dot(g[i], uc[i]);

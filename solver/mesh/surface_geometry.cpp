@@ -61,13 +61,18 @@ std::vector<double> node_areas(const Topology& topo, const Vec3* x) {
   return a;
 }
 
-std::vector<Vec3> node_normals(const Topology& topo, const Vec3* x) {
+std::vector<Vec3> node_area_vectors(const Topology& topo, const Vec3* x) {
   std::vector<Vec3> n(topo.num_nodes);
   for (const auto& t : topo.triangles) {
     Vec3 an = area_vector2(x[t[0]], x[t[1]], x[t[2]]);
     for (int k : t)
       n[k] += an;
   }
+  return n;
+}
+
+std::vector<Vec3> node_normals(const Topology& topo, const Vec3* x) {
+  std::vector<Vec3> n = node_area_vectors(topo, x);
   for (auto& v : n)
     v = (1.0 / norm(v)) * v;
   return n;

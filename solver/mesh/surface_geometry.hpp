@@ -24,6 +24,10 @@ Mat3 second_moment(const Topology& topo, const Vec3* x, Vec3 centroid);
 // Lumped node areas: each triangle gives a third of its area to each of its nodes.
 std::vector<double> node_areas(const Topology& topo, const Vec3* x);
 
+// Each node's sum of its triangles' twice-area vectors (area_vector2): 6 dV/dx_i, the
+// gradient of the enclosed volume, and the direction of the node normal.
+std::vector<Vec3> node_area_vectors(const Topology& topo, const Vec3* x);
+
 // Unit node normals, the area-weighted average of the adjacent triangles' normals.
 std::vector<Vec3> node_normals(const Topology& topo, const Vec3* x);
 
