@@ -15,10 +15,6 @@ ErrorNorm parse_error_norm(const std::string& name) {
                               "'");
 }
 
-std::string to_string(ErrorNorm n) {
-  return n == ErrorNorm::max ? "max" : "rms";
-}
-
 double step_error(const std::vector<Vec3>& e, int num_capsules, ErrorNorm n) {
   const size_t per_capsule = e.size() / size_t(std::max(num_capsules, 1));
   if (per_capsule == 0)

@@ -19,7 +19,6 @@ namespace capsim {
 enum class ErrorNorm { max, rms };
 
 ErrorNorm parse_error_norm(const std::string& name); // throws std::invalid_argument
-std::string to_string(ErrorNorm n);
 
 // The norm of the node errors e (capsule after capsule, num_capsules equal blocks).
 double step_error(const std::vector<Vec3>& e, int num_capsules, ErrorNorm n);
