@@ -37,7 +37,7 @@ from analysis.tables import run_row, write_table
 
 QUANTITIES = ("D", "mu_sp", "N1")
 PARTS = ("disc", "ewald", "time", "stat")
-TIME_CODE = re.compile(r"^(heun|imex)([0-9.eE+-]+)$")
+TIME_CODE = re.compile(r"^(heun|imexrms|imex)([0-9.eE+-]+)$")
 NOMINAL_ORDER = 2.0  # P1 elements: used where the observed order cannot be measured
 
 
@@ -51,7 +51,8 @@ class Setting:
     level: int
     capsules: int
     ewald: float  # 0 for the dilute limit
-    time: str  # "heun<dt_safety>" (fixed step) or "imex<time.tolerance>" (adaptive)
+    time: str  # "heun<dt_safety>" (fixed step), "imex<time.tolerance>" (adaptive) or
+    #            "imexrms<time.tolerance>" (adaptive, time.error_norm rms)
     t_end: float
     window: tuple
     seed: int = 1
@@ -78,15 +79,18 @@ class Setting:
 
 
 def time_options(code):
-    """capsim --set options of a time code: heun<dt_safety> or imex<tolerance>."""
+    """capsim --set options of a time code: heun<dt_safety>, imex<tolerance> (the max
+    norm) or imexrms<tolerance> (the rms norm)."""
     match = TIME_CODE.match(code)
     if not match:
-        raise ValueError(f"accuracy: time setting '{code}' is not heun<dt_safety> or "
-                         "imex<tolerance> (e.g. heun0.5, imex0.001)")
+        raise ValueError(f"accuracy: time setting '{code}' is not heun<dt_safety>, "
+                         "imex<tolerance> or imexrms<tolerance> (e.g. heun0.5, imex0.001, "
+                         "imexrms0.01)")
     scheme, value = match.group(1), float(match.group(2))
     if scheme == "heun":
         return ["time.scheme=heun", "time.tolerance=0", f"dt_safety={value:g}"]
-    return ["time.scheme=imex", f"time.tolerance={value:g}"]
+    norm = ["time.error_norm=rms"] if scheme == "imexrms" else []  # max: the default
+    return ["time.scheme=imex", f"time.tolerance={value:g}"] + norm
 
 
 def capsim_options(setting, threads, sample_interval):

@@ -40,6 +40,12 @@ def test_bad_time_setting_is_named():
         time_options("rk4")
 
 
+def test_time_codes_name_the_error_norm():
+    assert "time.error_norm=rms" in time_options("imexrms0.01")
+    assert not any("error_norm" in o for o in time_options("imex1e-3"))  # max, default
+    assert "time.tolerance=0.01" in time_options("imexrms0.01")
+
+
 def test_ci_accuracy_study(tmp_path):
     proc = snakemake(tmp_path, "accuracy")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
