@@ -248,7 +248,7 @@ const std::vector<Param>& parameters() {
           "of the node errors), in capsule radii (embedded estimate); dt is then only "
           "the first step. 0 = a fixed step dt; auto = 0 for heun, for imex the "
           "tolerance whose time error stays below a tenth of the mesh error at "
-          "mesh_level with the max norm (docs/method.md)"),
+          "mesh_level with the chosen time.error_norm (docs/method.md)"),
       choice(
           "time.error_norm", {"max", "rms"},
           [](RunOptions& o) -> std::string& { return o.time.error_norm; },

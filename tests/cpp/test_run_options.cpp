@@ -127,6 +127,15 @@ TEST_CASE("config: tolerances left to auto are resolved from the mesh level",
       CHECK(automatic_time_tolerance(level) < automatic_time_tolerance(level - 1));
     }
   }
+  // The rms norm's time error is larger at equal tolerance (docs/method.md), so its
+  // automatic tolerance is the tighter one at every level.
+  RunOptions rms = parse_run_options(
+      "", {"time.scheme=imex", "time.tolerance=auto", "time.error_norm=rms"});
+  resolve_automatic_settings(rms, true);
+  CHECK(rms.time.tolerance == automatic_time_tolerance(3, ErrorNorm::rms));
+  for (int level = 1; level <= 5; ++level)
+    CHECK(automatic_time_tolerance(level, ErrorNorm::rms) <
+          automatic_time_tolerance(level, ErrorNorm::max));
   RunOptions heun = parse_run_options("", {"time.tolerance=auto"});
   resolve_automatic_settings(heun, true);
   CHECK(heun.time.tolerance == 0); // Heun keeps its fixed step
