@@ -37,9 +37,8 @@ import sys
 from pathlib import Path
 
 import pandas as pd
-import yaml
 
-from analysis.tables import read_table, select
+from analysis.tables import read_table, read_yaml_list, select
 
 SOURCES = ("analytic", "paper", "reference-run")
 # A difference beyond 3 standard errors has a chance of 0.3 % for a Gaussian estimate (2.7
@@ -54,11 +53,7 @@ class ExpectationError(ValueError):
 
 def load_expectations(path):
     """The list of expectations in one YAML file, validated."""
-    with open(path, encoding="utf-8") as f:
-        data = yaml.safe_load(f) or {}
-    items = data.get("expectations")
-    if not isinstance(items, list) or not items:
-        raise ExpectationError(f"{path}: needs a non-empty list 'expectations'")
+    data, items = read_yaml_list(path, "expectations", ExpectationError)
     k = data.get("k", K_STANDARD_ERRORS)
     if isinstance(k, bool) or not isinstance(k, (int, float)) or not k > 0:
         raise ExpectationError(f"{path}: 'k' (standard errors) must be a positive number, "

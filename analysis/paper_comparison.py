@@ -51,10 +51,10 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
 
 from analysis.statistics import mean_of_runs_standard_error, propagated_standard_error
-from analysis.tables import markdown_table, read_table, select, with_data, write_table
+from analysis.tables import (markdown_table, read_table, read_yaml_list, select, with_data,
+                             write_table)
 
 K_COMBINED = 2.0  # the agreement band: 2 combined standard errors (95 % for a Gaussian)
 KINDS = ("value", "sign", "max")
@@ -339,11 +339,7 @@ def _fill(obj, ca):
 
 def load_numbers(path):
     """The list of numbers of a numbers file, validated."""
-    with open(path, encoding="utf-8") as f:
-        data = yaml.safe_load(f) or {}
-    numbers = data.get("numbers")
-    if not isinstance(numbers, list) or not numbers:
-        raise NumbersError(f"{path}: needs a non-empty list 'numbers'")
+    _, numbers = read_yaml_list(path, "numbers", NumbersError)
     ids = set()
     for n in numbers:
         where = f"{path}: number {n.get('id', '(no id)')}"

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import yaml
 
 from analysis.averages import run_averages
 from analysis.membrane import code_from_parameters
@@ -107,6 +108,17 @@ def write_table(path, rows, columns=None):
         table = table.reindex(columns=list(columns))
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     table.to_csv(path, index=False)
+
+
+def read_yaml_list(path, key, error):
+    """(the whole mapping, its non-empty list under `key`) of a YAML file; raises
+    `error` (an exception class) naming the file and the key otherwise."""
+    with open(path, encoding="utf-8") as f:
+        data = yaml.safe_load(f) or {}
+    items = data.get(key) if isinstance(data, dict) else None
+    if not isinstance(items, list) or not items:
+        raise error(f"{path}: needs a non-empty list '{key}'")
+    return data, items
 
 
 def read_table(path):

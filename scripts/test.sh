@@ -43,10 +43,13 @@ emulated_device_selftest() {
 # The C++ suite built with AddressSanitizer and UndefinedBehaviorSanitizer (CAPSIM_SANITIZE,
 # build-sanitize/, no CUDA, no benchmarks); any report fails its test. The two slowest
 # tests (about 200 s each under the sanitizers) run in the plain suite only; the IMEX and
-# relaxation paths they take are covered by faster tests here.
+# relaxation paths they take are covered by faster tests here. Built at -O1 (the level the
+# sanitizers' authors advise) as a unity build: about 180 s instead of 470 s at -O3 file by
+# file on 2 cores, for the same test time.
 sanitized_suite() {
   local dir=build-sanitize
-  configure_variant "$dir" -DCAPSIM_SANITIZE=ON -DCAPSIM_CUDA=OFF || return 1
+  configure_variant "$dir" -DCAPSIM_SANITIZE=ON -DCAPSIM_CUDA=OFF -DCMAKE_UNITY_BUILD=ON \
+    "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" || return 1
   cmake --build "$dir" --parallel "$JOBS" >"$dir/build.log" 2>&1 || {
     tail -50 "$dir/build.log" >&2
     return 1

@@ -23,7 +23,7 @@ public:
   // Builds W_c = I - gamma_dt J_c of every capsule at positions x.
   void prepare(const std::vector<Vec3>& x, double gamma_dt);
   // v <- W^-1 v, capsule by capsule: BiCGSTAB on W scaled by its inverse 3 x 3 diagonal
-  // blocks, to a relative residual of 1e-12 (a few milliseconds at 642 nodes, where a
+  // blocks, to a relative residual of 1e-9 (a few milliseconds at 642 nodes, where a
   // sparse LU costs 5-20 times more), a sparse LU where that does not converge.
   void solve(std::vector<Vec3>& v);
 

@@ -103,8 +103,13 @@ std::string inversion_cause(const Membrane& membrane, const Vec3* xc, int triang
   if (all.elements == 0)
     return kStepAdvice;
   std::ostringstream s;
-  s << "; " << all.elements << " of its " << all.of
-    << " elements are in compression (T2 < " << kCompressedTension << " Gs)";
+  // A relaxed membrane carries no compression: the paper's energy's T2 then says where
+  // it wrinkles and how far the elements there are squeezed, not a tension it carries.
+  s << "; " << all.elements << " of its " << all.of << " elements are in compression"
+    << (membrane.wrinkling() ? " under the paper's energy, which the relaxed membrane "
+                               "does not carry"
+                             : "")
+    << " (T2 < " << kCompressedTension << " Gs)";
   if (near.elements == 0)
     return s.str() + ", down to T2 = " + tension_text(all.min_tension) +
            ", none next to the inverted one" + kStepAdvice;

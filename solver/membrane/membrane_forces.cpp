@@ -69,8 +69,11 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
                                                     HessianPart part) const {
   const int n = topo_.num_nodes;
   const std::vector<double> area = node_areas(topo_, x);
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(2 * 81 * refs_.size() + 144 * hinges_.size());
+  // Each element fills its own 81 slots, so the elements run in parallel (a single
+  // capsule's implicit step has no capsules to share among the threads).
+  std::vector<Eigen::Triplet<double>> trip(81 * refs_.size());
+  trip.reserve(trip.size() + 144 * hinges_.size());
+#pragma omp parallel for schedule(static)
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
     const Matrix9 h = membrane_element_hessian(refs_[e], gs_, wrinkling_, x[t[0]],
@@ -81,6 +84,7 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
     Vec3 darea[3];
     for (int k = 0; k < 3; ++k)
       darea[k] = (1.0 / 6.0) * cross(n_hat, x[t[(k + 2) % 3]] - x[t[(k + 1) % 3]]);
+    Eigen::Triplet<double>* slot = &trip[81 * e];
     for (int i = 0; i < 3; ++i) {
       const int ni = t[i];
       const Vec3 qi = (1.0 / (area[ni] * area[ni])) * grad[ni];
@@ -89,8 +93,8 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
         const double da[3] = {darea[j].x, darea[j].y, darea[j].z};
         for (int a = 0; a < 3; ++a)
           for (int b = 0; b < 3; ++b)
-            trip.emplace_back(3 * ni + a, 3 * t[j] + b,
-                              h(3 * i + a, 3 * j + b) / area[ni] - qa[a] * da[b]);
+            *slot++ = {3 * ni + a, 3 * t[j] + b,
+                       h(3 * i + a, 3 * j + b) / area[ni] - qa[a] * da[b]};
       }
     }
   }
