@@ -1,5 +1,6 @@
 #include "dynamics/flow.hpp"
 
+#include "common/choice.hpp"
 #include "dynamics/time_stepping.hpp"
 
 #include <algorithm>
@@ -8,16 +9,14 @@
 
 namespace capsim {
 
+constexpr Choice<Backend> kBackends[] = {{"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
+
 Backend parse_backend(const std::string& name) {
-  if (name == "cpu")
-    return Backend::cpu;
-  if (name == "cuda")
-    return Backend::cuda;
-  throw std::invalid_argument("backend must be one of {cpu, cuda}, got '" + name + "'");
+  return parse_choice("backend", name, kBackends);
 }
 
 std::string to_string(Backend b) {
-  return b == Backend::cpu ? "cpu" : "cuda";
+  return choice_name(b, kBackends);
 }
 
 std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,

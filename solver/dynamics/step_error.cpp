@@ -1,18 +1,18 @@
 #include "dynamics/step_error.hpp"
 
+#include "common/choice.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace capsim {
 
+constexpr Choice<ErrorNorm> kErrorNorms[] = {{"max", ErrorNorm::max},
+                                             {"rms", ErrorNorm::rms}};
+
 ErrorNorm parse_error_norm(const std::string& name) {
-  if (name == "max")
-    return ErrorNorm::max;
-  if (name == "rms")
-    return ErrorNorm::rms;
-  throw std::invalid_argument("time.error_norm must be one of {max, rms}, got '" + name +
-                              "'");
+  return parse_choice("time.error_norm", name, kErrorNorms);
 }
 
 double step_error(const std::vector<Vec3>& e, int num_capsules, ErrorNorm n) {

@@ -1,22 +1,22 @@
 #include "dynamics/time_schemes.hpp"
 
+#include "common/choice.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace capsim {
 
+constexpr Choice<TimeScheme> kTimeSchemes[] = {{"heun", TimeScheme::heun},
+                                               {"imex", TimeScheme::imex}};
+
 TimeScheme parse_time_scheme(const std::string& name) {
-  if (name == "heun")
-    return TimeScheme::heun;
-  if (name == "imex")
-    return TimeScheme::imex;
-  throw std::invalid_argument("time.scheme must be one of {heun, imex}, got '" + name +
-                              "'");
+  return parse_choice("time.scheme", name, kTimeSchemes);
 }
 
 std::string to_string(TimeScheme s) {
-  return s == TimeScheme::heun ? "heun" : "imex";
+  return choice_name(s, kTimeSchemes);
 }
 
 ImexStepper::ImexStepper(const Flow& flow, ErrorNorm norm)

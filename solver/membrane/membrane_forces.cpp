@@ -1,5 +1,6 @@
 #include "membrane/membrane_forces.hpp"
 
+#include "common/choice.hpp"
 #include "membrane/neo_hookean_hessian.hpp"
 #include "mesh/surface_geometry.hpp"
 
@@ -10,17 +11,15 @@
 
 namespace capsim {
 
+constexpr Choice<LoadMapping> kLoadMappings[] = {{"lumped", LoadMapping::lumped},
+                                                 {"consistent", LoadMapping::consistent}};
+
 LoadMapping parse_load_mapping(const std::string& name) {
-  if (name == "lumped")
-    return LoadMapping::lumped;
-  if (name == "consistent")
-    return LoadMapping::consistent;
-  throw std::invalid_argument("membrane.load must be one of {lumped, consistent}, got '" +
-                              name + "'");
+  return parse_choice("membrane.load", name, kLoadMappings);
 }
 
 std::string to_string(LoadMapping m) {
-  return m == LoadMapping::lumped ? "lumped" : "consistent";
+  return choice_name(m, kLoadMappings);
 }
 
 Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, double kb,

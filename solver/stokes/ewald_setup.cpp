@@ -1,5 +1,6 @@
 #include "stokes/ewald_setup.hpp"
 
+#include "common/choice.hpp"
 #include "stokes/ewald_reciprocal.hpp"
 
 #include <algorithm>
@@ -8,27 +9,16 @@
 
 namespace capsim {
 
+constexpr Choice<EwaldMethod> kEwaldMethods[] = {{"spectral", EwaldMethod::spectral},
+                                                 {"direct", EwaldMethod::direct},
+                                                 {"patches", EwaldMethod::patches}};
+
 EwaldMethod parse_ewald_method(const std::string& name) {
-  if (name == "spectral")
-    return EwaldMethod::spectral;
-  if (name == "direct")
-    return EwaldMethod::direct;
-  if (name == "patches")
-    return EwaldMethod::patches;
-  throw std::invalid_argument("method must be one of {spectral, direct, patches}, got '" +
-                              name + "'");
+  return parse_choice("method", name, kEwaldMethods);
 }
 
 std::string to_string(EwaldMethod m) {
-  switch (m) {
-  case EwaldMethod::spectral:
-    return "spectral";
-  case EwaldMethod::direct:
-    return "direct";
-  case EwaldMethod::patches:
-    return "patches";
-  }
-  return "";
+  return choice_name(m, kEwaldMethods);
 }
 
 namespace {
