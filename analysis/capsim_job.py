@@ -14,6 +14,9 @@ after `--`. Either way:
 - while capsim runs, LOG is locked (an exclusive flock, held by capsim itself through its
   output): a second job for the same run, from a second snakemake started after
   `--unlock`, is refused instead of writing the same folder;
+- capsim's OpenMP threads sleep rather than spin while they wait (OMP_WAIT_POLICY
+  passive, unless the environment sets it): as fast alone on the machine, and far faster
+  when other jobs share its cores (docs/performance.md);
 - a failure ends with one line on stderr and in LOG naming the run, how capsim ended
   (its exit status, or the signal that killed it), its error message and LOG.
 
@@ -82,6 +85,11 @@ def last_message(log, offset):
     return lines[-1] if lines else ""
 
 
+def _job_environment():
+    """The environment of capsim: this one, with OMP_WAIT_POLICY passive by default."""
+    return {"OMP_WAIT_POLICY": "passive", **os.environ}
+
+
 def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False):
     """Runs (or resumes) one capsim run with its output appended to LOG; returns the
     job's exit status (0 for success)."""
@@ -102,7 +110,8 @@ def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False):
         offset = out.tell()
         # capsim writes to the locked file itself, so the lock lasts as long as capsim,
         # even if this process is killed first.
-        returncode = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode
+        returncode = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT,
+                                    env=_job_environment()).returncode
         summary = Path(run_dir) / "summary.json"
         if returncode == 0:
             return 0

@@ -112,6 +112,22 @@ def test_run_options_reach_capsim_in_its_spelling(tmp_path):
     assert proc.returncode == 0, proc.stderr
 
 
+@pytest.mark.parametrize("given, expected", [(None, "passive"), ("active", "active")])
+def test_jobs_threads_sleep_while_they_wait_unless_told_otherwise(tmp_path, monkeypatch,
+                                                                  given, expected):
+    # Spinning threads cost 5 times the wall time where another job shares the cores.
+    fake = tmp_path / "capsim"
+    fake.write_text("#!/bin/sh\necho \"policy=$OMP_WAIT_POLICY\"\n")
+    fake.chmod(0o755)
+    if given is None:
+        monkeypatch.delenv("OMP_WAIT_POLICY", raising=False)
+    else:
+        monkeypatch.setenv("OMP_WAIT_POLICY", given)
+    log = tmp_path / "job.log"
+    assert run_job(str(fake), str(tmp_path / "run"), str(log), [], []) == 0
+    assert f"policy={expected}\n" in log.read_text()
+
+
 def test_keep_going_finishes_the_other_runs_and_names_the_failed_one(tmp_path):
     write_config(tmp_path, BAD_RUN_CONFIG)
     proc = snakemake(tmp_path, "--keep-going", "results/mesh/table.csv",
