@@ -44,7 +44,7 @@ emulated_device_selftest() {
 # build-sanitize/, no CUDA, no benchmarks); any report fails its test. The two slowest
 # tests (about 200 s each under the sanitizers) run in the plain suite only; the IMEX and
 # relaxation paths they take are covered by faster tests here. Built at -O1 (the level the
-# sanitizers' authors advise) as a unity build: about 180 s instead of 470 s at -O3 file by
+# sanitizers' authors advise) as a unity build: about 200 s instead of 470 s at -O3 file by
 # file on 2 cores, for the same test time.
 sanitized_suite() {
   local dir=build-sanitize
