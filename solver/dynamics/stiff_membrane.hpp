@@ -7,11 +7,13 @@
 // the far field of the capsule, the other capsules and the shear change on the flow's
 // time scale. A block-diagonal B keeps W = I - gamma dt J sparse and positive enough;
 // a banded truncation of the single layer (one or two rings of neighbours) is not.
+#include "common/fixed_pattern.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/single_layer.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace capsim {
@@ -35,14 +37,17 @@ public:
 private:
   using Matrix = Eigen::SparseMatrix<double>;
   struct System {
-    Matrix scale; // the inverse diagonal blocks of W
-    Matrix w;     // scale * W
+    std::vector<Eigen::Matrix3d> scale; // the inverse diagonal blocks of W
+    Matrix w;                           // scale * W
     Eigen::BiCGSTAB<Matrix, Eigen::IdentityPreconditioner> iterative; // refers to w
   };
   const Membrane& membrane_;
   int num_capsules_;
   QuadratureOptions quadrature_;
   std::vector<std::unique_ptr<System>> systems_;
+  // dq/dx's pattern depends only on the mesh: learnt from the first J built.
+  mutable std::once_flag pattern_once_;
+  mutable std::unique_ptr<FixedPatternAssembly> load_jacobian_assembly_;
 };
 
 } // namespace capsim

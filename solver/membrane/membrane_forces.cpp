@@ -66,7 +66,15 @@ void Membrane::add_bending_jacobian(const Vec3* x, const std::vector<double>& ar
 Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
                                                     const std::vector<Vec3>& grad,
                                                     HessianPart part) const {
-  const int n = topo_.num_nodes;
+  const std::vector<Eigen::Triplet<double>> trip = load_jacobian_triplets(x, grad, part);
+  Eigen::SparseMatrix<double> jac(3 * topo_.num_nodes, 3 * topo_.num_nodes);
+  jac.setFromTriplets(trip.begin(), trip.end()); // sums the duplicates
+  return jac;
+}
+
+std::vector<Eigen::Triplet<double>>
+Membrane::load_jacobian_triplets(const Vec3* x, const std::vector<Vec3>& grad,
+                                 HessianPart part) const {
   const std::vector<double> area = node_areas(topo_, x);
   // Each element fills its own 81 slots, so the elements run in parallel (a single
   // capsule's implicit step has no capsules to share among the threads).
@@ -98,9 +106,7 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
     }
   }
   add_bending_jacobian(x, area, trip);
-  Eigen::SparseMatrix<double> jac(3 * n, 3 * n);
-  jac.setFromTriplets(trip.begin(), trip.end()); // sums the duplicates
-  return jac;
+  return trip;
 }
 
 std::vector<ElementTensions> Membrane::element_tensions(const Vec3* x) const {

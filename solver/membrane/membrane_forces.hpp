@@ -54,6 +54,12 @@ public:
   // compressed).
   Eigen::SparseMatrix<double> load_jacobian(const Vec3* x, const std::vector<Vec3>& grad,
                                             HessianPart part = HessianPart::exact) const;
+  // The same as triplets (row, column, value), duplicates not yet summed, in an order
+  // that depends only on the mesh: what an assembly into a fixed pattern needs
+  // (common/fixed_pattern.hpp).
+  std::vector<Eigen::Triplet<double>>
+  load_jacobian_triplets(const Vec3* x, const std::vector<Vec3>& grad,
+                         HessianPart part = HessianPart::exact) const;
 
   // Principal tensions and area dilatation of every element at positions x, of the
   // membrane's own energy (relaxed with wrinkling: then T2 >= 0).

@@ -185,6 +185,40 @@ TEST_CASE("implicit: a self-mobility block is the single layer of one node's hat
   }
 }
 
+TEST_CASE("implicit: J assembled into its fixed pattern is B dq/dx, state after state",
+          "[implicit]") {
+  // StiffMembrane learns dq/dx's sparsity from the first J it builds and only adds values
+  // into it afterwards; with bending on, the hinges' opposite nodes are in the pattern too.
+  const Icosphere s = make_icosphere(2);
+  const Membrane membrane(s.topology, s.positions.data(), 5.0, 0.25);
+  const StiffMembrane stiff(membrane, 1, QuadratureOptions{});
+  for (double amplitude : {0.02, 0.05}) {
+    const std::vector<Vec3> x = deformed(s, amplitude);
+    std::vector<Vec3> grad;
+    membrane.energy_gradient(x.data(), grad);
+    const auto trip = membrane.load_jacobian_triplets(x.data(), grad, HessianPart::positive);
+    const int n = 3 * s.topology.num_nodes;
+    Eigen::SparseMatrix<double> dq(n, n);
+    dq.setFromTriplets(trip.begin(), trip.end());
+    // The assembly sums in the triplets' order, as setFromTriplets: to the last bit.
+    const FixedPatternAssembly assembly(n, n, membrane.load_jacobian_triplets(
+                                                  s.positions.data(), grad));
+    CHECK(Eigen::MatrixXd(assembly.assemble(trip) - dq).cwiseAbs().maxCoeff() == 0.0);
+    auto shorter = trip;
+    shorter.pop_back();
+    CHECK_THROWS_AS(assembly.assemble(shorter), std::logic_error);
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, n);
+    const std::vector<Mat3> blocks = self_mobility_blocks(s.topology, x.data(), {});
+    for (int i = 0; i < s.topology.num_nodes; ++i)
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c)
+          b(3 * i + a, 3 * i + c) = blocks[i].m[a][c];
+    const Eigen::MatrixXd expected = b * Eigen::MatrixXd(dq);
+    const Eigen::MatrixXd j = Eigen::MatrixXd(stiff.jacobian(x.data()));
+    CHECK((j - expected).cwiseAbs().maxCoeff() < 1e-13 * expected.cwiseAbs().maxCoeff());
+  }
+}
+
 TEST_CASE("implicit: the IMEX step agrees with Heun's to third order as dt -> 0",
           "[implicit]") {
   const Icosphere s = make_icosphere(2);
