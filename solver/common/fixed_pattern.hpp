@@ -1,11 +1,10 @@
 #pragma once
-// Assembly of a sparse matrix whose sparsity never changes (a mesh's node neighbours) from
-// triplets. Eigen's setFromTriplets sorts and merges the triplets every time; at mesh
-// level 4 that was two thirds of building a capsule's membrane Jacobian. Here it is done
-// once: each later assembly adds every triplet's value into its slot, in the triplets'
-// order, so the sums equal setFromTriplets' to the last bit.
+// Assembly of a sparse matrix whose sparsity never changes (a mesh's node neighbours)
+// from triplets. Eigen's setFromTriplets sorts and merges the triplets every time; at
+// mesh level 4 that was two thirds of building a capsule's membrane Jacobian. Here it is
+// done once: each later assembly adds every triplet's value into its slot, in the
+// triplets' order, so the sums equal setFromTriplets' to the last bit.
 #include <Eigen/SparseCore>
-
 #include <algorithm>
 #include <stdexcept>
 #include <vector>
@@ -40,7 +39,8 @@ public:
     std::fill(value, value + m.nonZeros(), 0.0);
     for (size_t k = 0; k < trip.size(); ++k) {
       if (m.innerIndexPtr()[slot_[k]] != trip[k].row())
-        throw std::logic_error("FixedPatternAssembly: the triplets changed their pattern");
+        throw std::logic_error(
+            "FixedPatternAssembly: the triplets changed their pattern");
       value[slot_[k]] += trip[k].value();
     }
     return m;

@@ -30,14 +30,16 @@ void multiply_block_rows(const std::vector<Eigen::Matrix3d>& left,
   for (int k = 0; k < m.outerSize(); ++k)
     for (int p = outer[k]; p < outer[k + 1]; p += 3) {
       if (inner[p] % 3 != 0 || p + 2 >= outer[k + 1] || inner[p + 2] != inner[p] + 2)
-        throw std::logic_error("multiply_block_rows: the matrix is not made of 3x3 blocks");
+        throw std::logic_error(
+            "multiply_block_rows: the matrix is not made of 3x3 blocks");
       Eigen::Map<Eigen::Vector3d> v(m.valuePtr() + p);
       v = left[inner[p] / 3] * v; // products evaluate into a temporary first
     }
 }
 
 // The inverses of the 3 x 3 diagonal blocks of w.
-std::vector<Eigen::Matrix3d> inverse_diagonal_blocks(const Eigen::SparseMatrix<double>& w) {
+std::vector<Eigen::Matrix3d>
+inverse_diagonal_blocks(const Eigen::SparseMatrix<double>& w) {
   std::vector<Eigen::Matrix3d> block(w.rows() / 3, Eigen::Matrix3d::Zero());
   for (int k = 0; k < w.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(w, k); it; ++it)

@@ -188,7 +188,8 @@ TEST_CASE("implicit: a self-mobility block is the single layer of one node's hat
 TEST_CASE("implicit: J assembled into its fixed pattern is B dq/dx, state after state",
           "[implicit]") {
   // StiffMembrane learns dq/dx's sparsity from the first J it builds and only adds values
-  // into it afterwards; with bending on, the hinges' opposite nodes are in the pattern too.
+  // into it afterwards; with bending on, the hinges' opposite nodes are in the pattern
+  // too.
   const Icosphere s = make_icosphere(2);
   const Membrane membrane(s.topology, s.positions.data(), 5.0, 0.25);
   const StiffMembrane stiff(membrane, 1, QuadratureOptions{});
@@ -196,13 +197,14 @@ TEST_CASE("implicit: J assembled into its fixed pattern is B dq/dx, state after 
     const std::vector<Vec3> x = deformed(s, amplitude);
     std::vector<Vec3> grad;
     membrane.energy_gradient(x.data(), grad);
-    const auto trip = membrane.load_jacobian_triplets(x.data(), grad, HessianPart::positive);
+    const auto trip =
+        membrane.load_jacobian_triplets(x.data(), grad, HessianPart::positive);
     const int n = 3 * s.topology.num_nodes;
     Eigen::SparseMatrix<double> dq(n, n);
     dq.setFromTriplets(trip.begin(), trip.end());
     // The assembly sums in the triplets' order, as setFromTriplets: to the last bit.
-    const FixedPatternAssembly assembly(n, n, membrane.load_jacobian_triplets(
-                                                  s.positions.data(), grad));
+    const FixedPatternAssembly assembly(
+        n, n, membrane.load_jacobian_triplets(s.positions.data(), grad));
     CHECK(Eigen::MatrixXd(assembly.assemble(trip) - dq).cwiseAbs().maxCoeff() == 0.0);
     auto shorter = trip;
     shorter.pop_back();
