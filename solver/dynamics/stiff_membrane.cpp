@@ -91,8 +91,9 @@ void StiffMembrane::prepare(const std::vector<Vec3>& x, double gamma_dt) {
     system->scale = inverse_diagonal_blocks(w);
     multiply_block_rows(system->scale, w);
     system->w = std::move(w);
+    system->blocks = BlockRows(system->w);
     system->iterative.setTolerance(kSolveTolerance);
-    system->iterative.compute(system->w);
+    system->iterative.compute(system->blocks);
     systems_[c] = std::move(system);
   }
 }

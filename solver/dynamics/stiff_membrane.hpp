@@ -7,6 +7,7 @@
 // the far field of the capsule, the other capsules and the shear change on the flow's
 // time scale. A block-diagonal B keeps W = I - gamma dt J sparse and positive enough;
 // a banded truncation of the single layer (one or two rings of neighbours) is not.
+#include "common/block_rows.hpp"
 #include "common/fixed_pattern.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/single_layer.hpp"
@@ -38,8 +39,10 @@ private:
   using Matrix = Eigen::SparseMatrix<double>;
   struct System {
     std::vector<Eigen::Matrix3d> scale; // the inverse diagonal blocks of W
-    Matrix w;                           // scale * W
-    Eigen::BiCGSTAB<Matrix, Eigen::IdentityPreconditioner> iterative; // refers to w
+    Matrix w;                           // scale * W (for the sparse LU)
+    BlockRows blocks;                   // the same, for BiCGSTAB's products
+    Eigen::BiCGSTAB<BlockRows, Eigen::IdentityPreconditioner>
+        iterative; // refers to blocks
   };
   const Membrane& membrane_;
   int num_capsules_;

@@ -221,6 +221,37 @@ TEST_CASE("implicit: J assembled into its fixed pattern is B dq/dx, state after 
   }
 }
 
+TEST_CASE("implicit: W by block rows multiplies as the sparse W and solves to the same x",
+          "[implicit]") {
+  // BiCGSTAB's products go through BlockRows (common/block_rows.hpp); the matrix is a J
+  // with bending on, so the hinges' opposite nodes are among the blocks.
+  const Icosphere s = make_icosphere(2);
+  const Membrane membrane(s.topology, s.positions.data(), 5.0, 0.25);
+  const StiffMembrane stiff(membrane, 1, QuadratureOptions{});
+  const int n = 3 * s.topology.num_nodes;
+  Eigen::SparseMatrix<double> w = -0.05 * stiff.jacobian(deformed(s).data());
+  for (int k = 0; k < n; ++k)
+    w.coeffRef(k, k) += 1.0; // W = I - dt J: coeffRef leaves w uncompressed
+  const BlockRows blocks(w);
+  REQUIRE(blocks.rows() == n);
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0).array().sin();
+  const Eigen::VectorXd expected = w * x;
+  Eigen::VectorXd y = Eigen::VectorXd::Ones(n);
+  blocks.multiply_add(-2.0, x.data(), y.data());
+  CHECK((y - (Eigen::VectorXd::Ones(n) - 2.0 * expected)).lpNorm<Eigen::Infinity>() <
+        1e-14 * expected.lpNorm<Eigen::Infinity>());
+  CHECK_THROWS_AS(blocks.multiply_add(1.0, y.data() + 3, y.data()), std::logic_error);
+  Eigen::BiCGSTAB<BlockRows, Eigen::IdentityPreconditioner> solver(blocks);
+  solver.setTolerance(1e-12);
+  const Eigen::VectorXd solved = solver.solve(expected);
+  CHECK(solver.info() == Eigen::Success);
+  CHECK((solved - x).lpNorm<Eigen::Infinity>() < 1e-9);
+  // A matrix with a lone entry is not made of whole blocks.
+  Eigen::SparseMatrix<double> lone(6, 6);
+  lone.insert(1, 4) = 1.0;
+  CHECK_THROWS_AS(BlockRows(lone), std::logic_error);
+}
+
 TEST_CASE("implicit: the IMEX step agrees with Heun's to third order as dt -> 0",
           "[implicit]") {
   const Icosphere s = make_icosphere(2);
