@@ -13,7 +13,13 @@
 
 namespace capsim {
 class BlockRows;
+
+// Whether entry p of a sparse column whose entries end before entry end starts a whole
+// 3 x 3 block: three adjacent rows from a multiple of 3.
+inline bool starts_block(const int* inner, int p, int end) {
+  return inner[p] % 3 == 0 && p + 2 < end && inner[p + 2] == inner[p] + 2;
 }
+} // namespace capsim
 
 namespace Eigen::internal {
 template <>
@@ -83,7 +89,7 @@ inline BlockRows::BlockRows(const Eigen::SparseMatrix<double>& m) {
       if (end(3 * j + b) - outer[3 * j + b] != len)
         throw std::logic_error("BlockRows: the matrix is not made of 3x3 blocks");
     for (int p = outer[3 * j]; p < end(3 * j); p += 3) {
-      if (inner[p] % 3 != 0 || p + 2 >= end(3 * j) || inner[p + 2] != inner[p] + 2)
+      if (!starts_block(inner, p, end(3 * j)))
         throw std::logic_error("BlockRows: the matrix is not made of 3x3 blocks");
       ++count[inner[p] / 3 + 1];
     }

@@ -29,7 +29,7 @@ void multiply_block_rows(const std::vector<Eigen::Matrix3d>& left,
   const int* inner = m.innerIndexPtr();
   for (int k = 0; k < m.outerSize(); ++k)
     for (int p = outer[k]; p < outer[k + 1]; p += 3) {
-      if (inner[p] % 3 != 0 || p + 2 >= outer[k + 1] || inner[p + 2] != inner[p] + 2)
+      if (!starts_block(inner, p, outer[k + 1]))
         throw std::logic_error(
             "multiply_block_rows: the matrix is not made of 3x3 blocks");
       Eigen::Map<Eigen::Vector3d> v(m.valuePtr() + p);
