@@ -8,6 +8,7 @@
 // generic_product_impl), so the solver itself stays Eigen's.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <functional>
 #include <stdexcept>
 #include <vector>
 
@@ -49,7 +50,8 @@ public:
 
   // y += alpha * this * x, for x and y of rows() values that do not overlap.
   void multiply_add(double alpha, const double* x, double* y) const {
-    if (x < y + rows() && y < x + rows())
+    const std::less<const double*> before; // a total order, unlike < across arrays
+    if (before(x, y + rows()) && before(y, x + rows()))
       throw std::logic_error("BlockRows: the product's input and output overlap");
     const int n = int(start_.size()) - 1;
     for (int i = 0; i < n; ++i) {
