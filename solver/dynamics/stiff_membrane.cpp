@@ -20,40 +20,16 @@ namespace {
 // a millionth of the time error at the default time.tolerance; 1e-7 saves no more.
 constexpr double kSolveTolerance = 1e-9;
 
-// Multiplies row block i (rows 3i to 3i + 2) of m by left[i], in place. m holds whole
-// 3 x 3 blocks (a node pair's), so in each column the three rows of a block are adjacent;
-// this is the product with a block-diagonal matrix without a sparse-sparse product.
-void multiply_block_rows(const std::vector<Eigen::Matrix3d>& left,
-                         Eigen::SparseMatrix<double>& m) {
-  const int* outer = m.outerIndexPtr();
-  const int* inner = m.innerIndexPtr();
-  for (int k = 0; k < m.outerSize(); ++k)
-    for (int p = outer[k]; p < outer[k + 1]; p += 3) {
-      if (!starts_block(inner, p, outer[k + 1]))
-        throw std::logic_error(
-            "multiply_block_rows: the matrix is not made of 3x3 blocks");
-      Eigen::Map<Eigen::Vector3d> v(m.valuePtr() + p);
-      v = left[inner[p] / 3] * v; // products evaluate into a temporary first
-    }
-}
-
-// The inverses of the 3 x 3 diagonal blocks of w.
-std::vector<Eigen::Matrix3d>
-inverse_diagonal_blocks(const Eigen::SparseMatrix<double>& w) {
-  std::vector<Eigen::Matrix3d> block(w.rows() / 3, Eigen::Matrix3d::Zero());
-  for (int k = 0; k < w.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(w, k); it; ++it)
-      if (it.row() / 3 == it.col() / 3)
-        block[it.row() / 3](it.row() % 3, it.col() % 3) = it.value();
-  for (Eigen::Matrix3d& b : block)
-    b = b.inverse().eval();
-  return block;
+// The inverses of the 3 x 3 blocks b.
+std::vector<Eigen::Matrix3d> inverses(std::vector<Eigen::Matrix3d> b) {
+  for (Eigen::Matrix3d& m : b)
+    m = m.inverse().eval();
+  return b;
 }
 
 } // namespace
 
-Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc,
-                                                    HessianPart part) const {
+BlockRows StiffMembrane::jacobian_blocks(const Vec3* xc, HessianPart part) const {
   const Topology& topo = membrane_.topology();
   std::vector<Vec3> grad;
   membrane_.energy_gradient(xc, grad);
@@ -62,7 +38,7 @@ Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc,
     load_jacobian_assembly_ = std::make_unique<FixedPatternAssembly>(
         3 * topo.num_nodes, 3 * topo.num_nodes, trip);
   });
-  Matrix j = load_jacobian_assembly_->assemble(trip); // dq/dx
+  BlockRows j(load_jacobian_assembly_->assemble(trip)); // dq/dx
   // Row block i of B dq/dx is B_i times row block i of dq/dx.
   const std::vector<Mat3> b = self_mobility_blocks(topo, xc, quadrature_);
   std::vector<Eigen::Matrix3d> left(b.size());
@@ -70,8 +46,13 @@ Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc,
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c)
         left[i](a, c) = b[i].m[a][c];
-  multiply_block_rows(left, j);
+  j.multiply_rows(left);
   return j;
+}
+
+Eigen::SparseMatrix<double> StiffMembrane::jacobian(const Vec3* xc,
+                                                    HessianPart part) const {
+  return jacobian_blocks(xc, part).to_sparse();
 }
 
 // With several capsules the threads share the capsules; one capsule's matrix is built by
@@ -82,18 +63,14 @@ void StiffMembrane::prepare(const std::vector<Vec3>& x, double gamma_dt) {
   for (int c = 0; c < num_capsules_; ++c) {
     auto system = std::make_unique<System>();
     // With the elements' convex part: a compressed element's growing modes stay explicit.
-    Matrix w = jacobian(&x[c * nn]);
-    w *= -gamma_dt;
-    for (int k = 0; k < 3 * nn; ++k)
-      w.coeffRef(k, k) += 1.0;
+    system->w = jacobian_blocks(&x[c * nn]);
+    system->w.scale_and_add_identity(-gamma_dt);
     // Scaled by its own 3 x 3 diagonal blocks, W needs a quarter fewer iterations than
     // with Eigen's scalar diagonal preconditioner.
-    system->scale = inverse_diagonal_blocks(w);
-    multiply_block_rows(system->scale, w);
-    system->w = std::move(w);
-    system->blocks = BlockRows(system->w);
+    system->scale = inverses(system->w.diagonal_blocks());
+    system->w.multiply_rows(system->scale);
     system->iterative.setTolerance(kSolveTolerance);
-    system->iterative.compute(system->blocks);
+    system->iterative.compute(system->w);
     systems_[c] = std::move(system);
   }
 }
@@ -109,7 +86,7 @@ void StiffMembrane::solve(std::vector<Vec3>& v) {
       rhs.segment<3>(3 * i) = s.scale[i] * vc.segment<3>(3 * i);
     Eigen::VectorXd sol = s.iterative.solveWithGuess(rhs, vc); // W is I + O(dt)
     if (s.iterative.info() != Eigen::Success) {
-      Eigen::SparseLU<Matrix> lu(s.w);
+      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(s.w.to_sparse());
       if (lu.info() != Eigen::Success)
         throw std::runtime_error("the implicit step's matrix of capsule " +
                                  std::to_string(c) + " is singular");

@@ -36,13 +36,14 @@ public:
                                        HessianPart part = HessianPart::positive) const;
 
 private:
-  using Matrix = Eigen::SparseMatrix<double>;
+  // J_c as jacobian() builds it, by 3 x 3 block rows.
+  BlockRows jacobian_blocks(const Vec3* xc,
+                            HessianPart part = HessianPart::positive) const;
+
   struct System {
     std::vector<Eigen::Matrix3d> scale; // the inverse diagonal blocks of W
-    Matrix w;                           // scale * W (for the sparse LU)
-    BlockRows blocks;                   // the same, for BiCGSTAB's products
-    Eigen::BiCGSTAB<BlockRows, Eigen::IdentityPreconditioner>
-        iterative; // refers to blocks
+    BlockRows w;                        // scale * W
+    Eigen::BiCGSTAB<BlockRows, Eigen::IdentityPreconditioner> iterative; // refers to w
   };
   const Membrane& membrane_;
   int num_capsules_;

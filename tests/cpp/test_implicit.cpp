@@ -221,7 +221,7 @@ TEST_CASE("implicit: J assembled into its fixed pattern is B dq/dx, state after 
   }
 }
 
-TEST_CASE("implicit: W by block rows multiplies as the sparse W and solves to the same x",
+TEST_CASE("implicit: W by block rows is built, multiplies and solves as the sparse W",
           "[implicit]") {
   // BiCGSTAB's products go through BlockRows (common/block_rows.hpp); the matrix is a J
   // with bending on, so the hinges' opposite nodes are among the blocks.
@@ -229,11 +229,18 @@ TEST_CASE("implicit: W by block rows multiplies as the sparse W and solves to th
   const Membrane membrane(s.topology, s.positions.data(), 5.0, 0.25);
   const StiffMembrane stiff(membrane, 1, QuadratureOptions{});
   const int n = 3 * s.topology.num_nodes;
-  Eigen::SparseMatrix<double> w = -0.05 * stiff.jacobian(deformed(s).data());
+  const Eigen::SparseMatrix<double> j = stiff.jacobian(deformed(s).data());
+  Eigen::SparseMatrix<double> w = -0.05 * j;
   for (int k = 0; k < n; ++k)
-    w.coeffRef(k, k) += 1.0; // W = I - dt J: coeffRef leaves w uncompressed
-  const BlockRows blocks(w);
+    w.coeffRef(k, k) += 1.0; // W = I - dt J
+  BlockRows blocks(j);
   REQUIRE(blocks.rows() == n);
+  blocks.scale_and_add_identity(-0.05); // as StiffMembrane::prepare builds W
+  const Eigen::MatrixXd dense_w(w);
+  CHECK((Eigen::MatrixXd(blocks.to_sparse()) - dense_w).cwiseAbs().maxCoeff() == 0.0);
+  const std::vector<Eigen::Matrix3d> diagonal = blocks.diagonal_blocks();
+  for (int i = 0; i < s.topology.num_nodes; ++i)
+    CHECK(diagonal[i] == dense_w.block<3, 3>(3 * i, 3 * i));
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0).array().sin();
   const Eigen::VectorXd expected = w * x;
   Eigen::VectorXd y = Eigen::VectorXd::Ones(n);
@@ -246,6 +253,15 @@ TEST_CASE("implicit: W by block rows multiplies as the sparse W and solves to th
   const Eigen::VectorXd solved = solver.solve(expected);
   CHECK(solver.info() == Eigen::Success);
   CHECK((solved - x).lpNorm<Eigen::Infinity>() < 1e-9);
+  // Row block i times left[i]: the product with a block-diagonal matrix.
+  std::vector<Eigen::Matrix3d> left(s.topology.num_nodes);
+  Eigen::MatrixXd dense_left = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < s.topology.num_nodes; ++i) {
+    left[i] = Eigen::Matrix3d::Random();
+    dense_left.block<3, 3>(3 * i, 3 * i) = left[i];
+  }
+  blocks.multiply_rows(left);
+  CHECK(Eigen::MatrixXd(blocks.to_sparse()).isApprox(dense_left * dense_w, 1e-14));
   // A matrix with a lone entry is not made of whole blocks.
   Eigen::SparseMatrix<double> lone(6, 6);
   lone.insert(1, 4) = 1.0;
