@@ -13,6 +13,9 @@ Cases (names, or a comma-separated list of them):
   dilute05   one capsule, Ca 0.05, level 4: Heun at dt_safety 1 (the default step, the
              best explicit run) against IMEX at time.tolerance 1e-3, with the max and
              the rms error norm (time.error_norm)
+  level4auto one capsule at level 4, Ca 0.05, 0.2, 0.6: Heun at dt_safety 1 against
+             IMEX at time.tolerance auto (the workflow's setting: a time error a tenth
+             of the level-4 mesh error), with the max and the rms error norm
   table1     the reduced Table 1 case (Ca 0.2, phi 0.3, level 3, M = 27, t = 20):
              Heun at dt_safety 1 with ewald.tolerance 1e-4 (the best explicit run)
              against IMEX at time.tolerance 1e-3 (max norm) and at 3e-3 and 1e-2 (rms
@@ -63,6 +66,11 @@ def cases(name):
     elif name == "dilute05":
         yield ("dilute_L4_Ca0.05", {**window, "mesh_level": 4, "ca": 0.05},
                [("heun_1", HEUN_1), ("imex", IMEX), ("imex_rms", imex_rms(1e-3))])
+    elif name == "level4auto":
+        for ca in (0.05, 0.2, 0.6):
+            yield (f"dilute_L4_Ca{ca}", {**window, "mesh_level": 4, "ca": ca},
+                   [("heun_1", HEUN_1), ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
+                    ("imex_rms_auto", imex_rms("auto"))])
     elif name == "table1":
         common = {**window, "mesh_level": 3, "ca": 0.2, "phi": 0.3, "capsules": 27,
                   "seed": 1, "ewald.tolerance": 1e-4}
