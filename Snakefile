@@ -8,6 +8,7 @@
 import os
 import sys
 
+from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
 min_version("8.0")
@@ -23,6 +24,8 @@ validate(config, os.path.join(ROOT, "workflow", "schemas", "config.schema.yaml")
 CAPSIM = config["capsim"] if os.path.isabs(config["capsim"]) else os.path.join(ROOT, config["capsim"])
 # The venv's Python, where the analysis package is installed (pip install -e .).
 PYTHON = sys.executable
+# The results archive of this configuration (pipeline.archive), or None.
+ARCHIVE = config.get("archive") and os.path.join(ROOT, config["archive"])
 
 
 include: "workflow/rules/common.smk"
@@ -40,6 +43,16 @@ include: "workflow/rules/checks.smk"
 include: "workflow/rules/accuracy.smk"
 include: "workflow/rules/sensitivity.smk"
 
+# Before anything is scheduled: runs that the archive holds further than results/ are
+# restored, and runs that results/ holds further than the archive are recorded.
+RUNS = configuration_runs()
+if ARCHIVE:
+    try:
+        report_archive(archive.sync(RUNS.values(), ARCHIVE, segment_ends))
+    except archive.ArchiveError as e:
+        raise WorkflowError(f"{e}: refused. Restore it from git (git checkout -- "
+                            "<record>) or delete it to compute the run anew.")
+
 
 rule all:
     default_target: True
@@ -52,7 +65,7 @@ rule all:
 # A failed invocation ends with the list of its failed jobs, each with its log and capsim's
 # message (docs/workflow.md, "When a run fails").
 onerror:
-    from analysis.capsim_job import failure_report
+    from pipeline.job import failure_report
 
     report = failure_report(log)
     if report:

@@ -30,7 +30,7 @@ from pathlib import Path
 import pandas as pd
 
 from analysis import membrane
-from analysis.capsim_job import set_options
+from pipeline.run_spec import set_options
 from analysis.read_run import read_summary, read_timeseries
 from analysis.statistics import propagated_standard_error
 from analysis.tables import markdown_table, run_row, stopped_row, write_table

@@ -35,6 +35,7 @@ struct RunArgs {
   std::string runfile, outdir, resume_dir;
   std::vector<std::string> sets;
   bool quiet = false;
+  double pause_at = 0;
 };
 
 void add_run_command(CLI::App& app, RunArgs& a) {
@@ -53,6 +54,12 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       "continue the run in this folder from its last checkpoint (with --set, only "
       "t_end, t_avg_start, threads, backend and output.* may change)");
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
+  run->add_option("--pause-at", a.pause_at,
+                  "run one segment: stop at the first checkpoint at or after this "
+                  "gammadot t, without summary.json (exit 0); --resume continues the "
+                  "run to the last bit as if it had not stopped")
+      ->check(finite_number())
+      ->type_name("T");
 }
 
 struct GreensArgs {
@@ -239,9 +246,14 @@ int run_command(const RunArgs& a) {
     request.options = capsim::load_run_options(a.runfile, a.sets);
     request.outdir = a.outdir;
   }
-  capsim::run_simulation(request);
-  if (!a.quiet)
+  request.pause_at = a.pause_at;
+  const bool finished = capsim::run_simulation(request);
+  if (!a.quiet && finished)
     std::fprintf(stderr, "capsim: done, see %s/summary.json\n", request.outdir.c_str());
+  else if (!a.quiet)
+    std::fprintf(stderr,
+                 "capsim: paused at the checkpoint in %s (continue with --resume)\n",
+                 request.outdir.c_str());
   return 0;
 }
 

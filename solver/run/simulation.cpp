@@ -92,8 +92,9 @@ void prepare_fresh_outdir(const std::string& dir) {
 
 class RunLoop {
 public:
-  RunLoop(const RunOptions& o, std::string dir, bool quiet)
-      : o_(o), dir_(std::move(dir)), quiet_(quiet), mesh_(make_icosphere(o.mesh_level)),
+  RunLoop(const RunOptions& o, std::string dir, bool quiet, double pause_at)
+      : o_(o), dir_(std::move(dir)), quiet_(quiet), pause_at_(pause_at),
+        mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
                   o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
@@ -118,6 +119,7 @@ public:
   void start_from(const Checkpoint& c);
   std::string resume_hint() const;
   void run();
+  bool paused() const { return paused_; }
   // summary.json; `ended` is "t_end" or the SimulationError kind that stopped the run.
   void write_summary(double wall_seconds, bool resumed,
                      const std::string& ended = "t_end",
@@ -144,6 +146,8 @@ private:
   RunOptions o_;
   std::string dir_;
   bool quiet_;
+  double pause_at_;     // RunRequest::pause_at
+  bool paused_ = false; // stopped at pause_at_, after a regular checkpoint
   Icosphere mesh_;
   Membrane membrane_;
   double h_; // mean edge of the undeformed mesh: sets dt
@@ -267,7 +271,7 @@ void RunLoop::run() {
 void RunLoop::step_until_end(Clock::time_point begin, long first) {
   if (adaptive())
     return step_adaptively(begin, first);
-  while (step_ < n_steps_) {
+  while (step_ < n_steps_ && !paused_) {
     stepper_->step(x_, time(), dt_);
     ++step_;
     finish_step();
@@ -281,7 +285,7 @@ void RunLoop::step_until_end(Clock::time_point begin, long first) {
 // series keeps its spacing; outputs are counted in samples.
 void RunLoop::step_adaptively(Clock::time_point begin, long first) {
   const double interval = o_.output.sample_interval;
-  while (t_ < o_.t_end) {
+  while (t_ < o_.t_end && !paused_) {
     const long next_sample = rows_written_ + long(pending_.size());
     const double target = std::min(o_.t_end, next_sample * interval);
     if (!try_step(target))
@@ -338,6 +342,10 @@ void RunLoop::write_outputs(long index, bool sample, bool last) {
     save_snapshot();
   if ((sample && index % checkpoint_every_ == 0) || last)
     save_checkpoint();
+  // Only at a regular checkpoint: the unbroken run writes the same one, so a resumed
+  // segment continues it to the last bit (a checkpoint forced at `last` would add a row).
+  if (!last && pause_at_ > 0 && checkpoint_time_ == time() && time() >= pause_at_)
+    paused_ = true;
 }
 
 // Lees-Edwards remapping, then the contact check: capsules may not interpenetrate.
@@ -518,7 +526,7 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
 }
 
 // The run after its set-up, to summary.json; a numerical stop records how it ended.
-void run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begin,
+bool run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begin,
                 const Checkpoint& checkpoint) {
   if (request.resume)
     loop.start_from(checkpoint);
@@ -533,12 +541,15 @@ void run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begi
     loop.write_summary(seconds(), request.resume, e.kind, e.what());
     throw;
   }
+  if (loop.paused())
+    return false;
   loop.write_summary(seconds(), request.resume);
+  return true;
 }
 
 } // namespace
 
-void run_simulation(const RunRequest& request) {
+bool run_simulation(const RunRequest& request) {
   const auto begin = Clock::now();
   RunOptions o = request.options;
   Checkpoint checkpoint;
@@ -551,7 +562,7 @@ void run_simulation(const RunRequest& request) {
     omp_set_num_threads(o.threads);
   // Built first: a backend that cannot run the options stops the run before anything
   // is written.
-  RunLoop loop(o, request.outdir, request.quiet);
+  RunLoop loop(o, request.outdir, request.quiet, request.pause_at);
   if (request.resume)
     loop.check_series(checkpoint);
   else
@@ -559,7 +570,7 @@ void run_simulation(const RunRequest& request) {
   // A failed write (a full disk, a read-only folder) says which file and what failed,
   // then where the run can continue from.
   try {
-    run_to_end(loop, request, begin, checkpoint);
+    return run_to_end(loop, request, begin, checkpoint);
   } catch (const ConfigError&) {
     throw;
   } catch (const SimulationError&) {

@@ -15,11 +15,16 @@ struct RunRequest {
   bool resume = false;
   std::vector<std::string> resume_overrides; // key=value allowed when resuming
   bool quiet = false;                        // no progress lines
+  // > 0: pause at the first regular checkpoint at or after gammadot t = pause_at (one
+  // segment of a longer run): no summary.json, and --resume continues exactly as if the
+  // run had never stopped, since the pause falls where the unbroken run checkpoints too.
+  double pause_at = 0;
 };
 
-// Runs to t_end and writes OUTDIR/summary.json. Throws ConfigError for bad input and
-// SimulationError for a numerical failure; the last good checkpoint stays in either case.
-void run_simulation(const RunRequest& request);
+// Runs to t_end (or to the pause) and writes OUTDIR/summary.json (not when paused).
+// Throws ConfigError for bad input and SimulationError for a numerical failure; the last
+// good checkpoint stays in either case. Returns false when the run paused before t_end.
+bool run_simulation(const RunRequest& request);
 
 // Keys that may change on --resume: they do not alter the physics of the steps taken.
 bool may_change_on_resume(const std::string& key);

@@ -220,9 +220,9 @@ def test_default_configuration_plans_the_study(tmp_path):
     proc = snakemake(tmp_path, "sensitivity", "-n", configfile="config.yaml")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     counts = dict(line.split()[:2] for line in proc.stdout.splitlines()
-                  if line.split()[:1] in (["sensitivity_run"], ["dilute_run"]))
+                  if line.split()[:1] in (["sensitivity_run"], ["run"]))
     assert int(counts["sensitivity_run"]) == 58
-    assert int(counts["dilute_run"]) == 14  # the references, shared with the dilute study
+    assert int(counts["run"]) == 14  # the dilute references, shared with the dilute study
 
 
 def test_a_bad_code_stops_the_workflow_before_any_run(tmp_path):

@@ -8,7 +8,7 @@ configurations written to a temporary working directory:
   from its checkpoint instead of starting again;
 - a second snakemake on the same working directory, started while the first runs a job,
   is refused by snakemake's lock;
-- a second job for a run whose capsim is still running is refused (analysis.capsim_job).
+- a second job for a run whose capsim is still running is refused (pipeline.job).
 
 About 30 s on 2 cores. Skipped when build/capsim or snakemake is missing."""
 
@@ -24,7 +24,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analysis.capsim_job import run_job, set_options
+from pipeline.job import run_job
+from pipeline.run_spec import set_options
 from analysis.read_run import read_timeseries
 from analysis.tables import read_table
 

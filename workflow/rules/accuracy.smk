@@ -35,7 +35,7 @@ rule accuracy_run:
     # contact is kept (its averages, if it stopped before its window, are left out). A
     # resumed run's summary.json times only its last invocation: its cost is left out.
     shell:
-        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
+        "{params.python} -m pipeline.job --capsim {input} --dir {params.dir} "
         "--log {log} --stopped-ok --resume-set threads={threads} -- {params.options}"
 
 

@@ -1,44 +1,39 @@
 # The workflow's functions and shared names, apart from its rules (as Snakemake's linter
-# wants). A suspension run folder names all that distinguishes the run:
-#   results/<study>/ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>]/
-# (the membrane code of analysis.membrane where a run does not carry the paper's, as the
-# grid's regularised points) and a dilute run folder results/dilute/ca<Ca>_level<level>/.
-# A run that two studies both need is made once, in the folder of the first of them in
-# SUSPENSION_STUDIES.
+# wants). Every run is a pipeline.run_spec.RunSpec: its folder results/<study>/<name>/
+# (suspensions ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>], dilute runs
+# ca<Ca>_level<level>), its capsim options, its provenance key and its segments all come
+# from there. A run that two studies both need is made once, in the folder of the first of
+# them in SUSPENSION_STUDIES.
 import functools
+import re
 from modulefinder import ModuleFinder
 
 from analysis import membrane as membrane_codes
-from analysis.capsim_job import set_options
+from pipeline import archive, run_spec
+from pipeline.run_spec import set_options
 
 SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
-# {membrane}: "" for the paper's membrane, else "_" and the code (run_name()).
-RUN_NAME = "ca{ca}_phi{phi}_M{M}_level{level}_seed{seed}{membrane}"
 
 
 wildcard_constraints:
-    study="|".join(SUSPENSION_STUDIES),
+    study="|".join(SUSPENSION_STUDIES + ["dilute"]),
+    run=r"ca[^/]+",
+    k=r"\d+",
     ca=r"[0-9.eE+-]+",
-    phi=r"[0-9.eE+-]+",
-    M=r"\d+",
     level=r"\d+",
-    seed=r"\d+",
-    membrane=r"(_[a-z][a-z0-9.+-]*)?",
+
+
+def suspension_spec(study, keys):
+    """The RunSpec of the suspension run of `study` with keys (ca, phi, M, level, seed[,
+    membrane]), in its own study folder."""
+    return run_spec.suspension(study, keys, config[study], config["averages"]["t_start"],
+                               config["run_options"])
 
 
 def run_name(**keys):
     """The folder name of a suspension run (keys: ca, phi, M, level, seed, and membrane,
     a code of analysis.membrane, the paper's where it is missing)."""
-    code = keys.get("membrane", membrane_codes.PAPER)
-    suffix = "" if code == membrane_codes.PAPER else "_" + code
-    return RUN_NAME.format(**{**keys, "membrane": suffix})
-
-
-def membrane_options(suffix):
-    """The capsim options of a run folder's membrane suffix ("" or "_<code>")."""
-    if not suffix:
-        return ""
-    return " ".join(f"--set {o}" for o in membrane_codes.options(suffix[1:]))
+    return suspension_spec("grid", keys).name
 
 
 # Filled in by each study: study -> function returning the keys (ca, phi, M, level, seed)
@@ -60,17 +55,22 @@ def study_run_names(study):
     return frozenset(run_name(**keys) for keys in STUDY_KEYS[study]())
 
 
-def run_summary(study, **keys):
-    """The summary.json of one run of `study` (keys: ca, phi, M, level, seed[, membrane]). Where an
-    earlier study of SUSPENSION_STUDIES makes the same run (the same keys, t_end and
-    snapshot interval: the mesh study's Table 1 case is often a grid point, the initial
-    positions' runs some of the box-size study's), the summary of that study's run: it is
-    run once, and a changed study block never redoes the other's runs."""
+def run_owner(study, **keys):
+    """The RunSpec of one run of `study` (keys: ca, phi, M, level, seed[, membrane]).
+    Where an earlier study of SUSPENSION_STUDIES makes the same run (the same keys, t_end
+    and snapshot interval: the mesh study's Table 1 case is often a grid point, the
+    initial positions' runs some of the box-size study's), that study's run: it is run
+    once, and a changed study block never redoes the other's runs."""
     name = run_name(**keys)
     for owner in SUSPENSION_STUDIES[: SUSPENSION_STUDIES.index(study)]:
         if same_runs(study, owner) and name in study_run_names(owner):
-            return os.path.join("results", owner, name, "summary.json")
-    return os.path.join("results", study, name, "summary.json")
+            return suspension_spec(owner, keys)
+    return suspension_spec(study, keys)
+
+
+def run_summary(study, **keys):
+    """The summary.json of one run of `study` (run_owner())."""
+    return os.path.join(run_owner(study, **keys).folder, "summary.json")
 
 
 def study_runs(study):
@@ -80,17 +80,50 @@ def study_runs(study):
 
 def dilute_summary(ca, level):
     """The summary.json of the dilute run (one capsule, phi = 0) at Ca and mesh level."""
-    return os.path.join("results", "dilute", f"ca{ca}_level{level}", "summary.json")
+    return os.path.join(run_spec.dilute(ca, level, config["dilute"]).folder, "summary.json")
+
+
+# Filled in by the studies that use dilute runs: functions returning their (Ca, level).
+DILUTE_KEYS = []
+
+
+def configuration_runs():
+    """Every run of the configuration's studies, by folder: what the archive restores
+    and records (the accuracy and sensitivity studies keep their own runs)."""
+    runs = {}
+    for study in SUSPENSION_STUDIES:
+        for keys in STUDY_KEYS.get(study, lambda: [])():
+            spec = run_owner(study, **keys)
+            runs[spec.folder] = spec
+    for keys in DILUTE_KEYS:
+        for ca, level in keys():
+            spec = run_spec.dilute(ca, level, config["dilute"])
+            runs[spec.folder] = spec
+    return runs
+
+
+def run_of(study, run):
+    """The RunSpec of a run folder's wildcards; a dilute run outside the configuration's
+    lists (the sensitivity study's) from its name."""
+    folder = f"results/{study}/{run}"
+    if folder in RUNS:
+        return RUNS[folder]
+    match = re.fullmatch(r"ca([0-9.eE+-]+)_level(\d+)", run)
+    if study == "dilute" and match:
+        return run_spec.dilute(float(match[1]), int(match[2]), config["dilute"])
+    raise ValueError(f"{folder}: no run of this name in the configuration")
+
+
+def segment_ends(spec):
+    """The pause times of a run's segments, its t_end last (config segments)."""
+    return spec.segment_ends(config["segments"].get("minutes"),
+                             config["segments"].get("strain"))
 
 
 def multipole_tables():
     """The multipole-error tables of figure 1: one per Ca of config["multipole"]."""
     return expand(os.path.join("results", "multipole", "ca{ca}_level{level}.csv"),
                   ca=config["multipole"]["ca"], level=config["multipole"]["mesh_level"])
-
-
-def run_option_sets():
-    return set_options(dict(sorted(config["run_options"].items())))
 
 
 @functools.cache
@@ -114,3 +147,15 @@ def analysis_module(name):
 
 def figure_script(name):
     return os.path.join(ROOT, "figures", f"{name}.py")
+
+
+def report_archive(report):
+    """One line per kind of what the archive's sync did, on stderr."""
+    words = {"restored": "restored whole", "partial": "restored to continue",
+             "recorded": "recorded from results/", "stale": "stale (another physics "
+             "version: computed anew)", "changed": "with other options (computed anew)"}
+    for kind, folders in report.items():
+        if folders:
+            shown = ", ".join(folders[:4]) + (", ..." if len(folders) > 4 else "")
+            print(f"archive {config['archive']}: {len(folders)} run(s) {words[kind]}: "
+                  f"{shown}", file=sys.stderr)

@@ -1,35 +1,14 @@
 # The dilute limit (phi = 0): one capsule in unbounded shear for every Ca and mesh level
-# listed in config["dilute"]. Adding a value to a list runs only the new runs. Other studies
-# (grid: phi = 0 of figures 3-10; multipole: figure 1) ask for dilute runs at their own Ca
-# and mesh level through dilute_summary() (common.smk); they land in the same folders.
+# listed in config["dilute"], made by the generic run rule (runs.smk); a numerical failure
+# (exit 3) fails the job here: the dilute table has no row for a stopped run. Adding a value
+# to a list runs only the new runs. Other studies (grid: phi = 0 of figures 3-10;
+# multipole: figure 1) ask for dilute runs at their own Ca and mesh level through
+# dilute_summary() (common.smk) and register them in DILUTE_KEYS; they land in the same
+# folders.
 DILUTE = config["dilute"]
 
 
-rule dilute_run:
-    input:
-        ancient(CAPSIM),
-    output:
-        "results/dilute/ca{ca}_level{level}/summary.json",
-    log:
-        "results/logs/dilute/ca{ca}_level{level}.log",
-    params:
-        python=PYTHON,
-        dir="results/dilute/ca{ca}_level{level}",
-        t_end=DILUTE["t_end"],
-        t_avg_start=DILUTE["t_avg_start"],
-    threads: config["resources"]["threads"]
-    resources:
-        runtime=config["resources"]["dilute_minutes"],
-        mem_mb=config["resources"]["dilute_mem_mb"],
-    # Started, or resumed from its checkpoint (a killed job, a raised t_end), by
-    # analysis.capsim_job as a suspension run is (runs.smk); a numerical failure (exit 3)
-    # fails the job here: the dilute table has no row for a stopped run.
-    shell:
-        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
-        "--log {log} --resume-set threads={threads} --resume-set t_end={params.t_end} -- "
-        "--set ca={wildcards.ca} --set mesh_level={wildcards.level} "
-        "--set t_end={params.t_end} --set t_avg_start={params.t_avg_start} "
-        "--set threads={threads}"
+DILUTE_KEYS.append(lambda: [(ca, level) for ca in DILUTE["ca"] for level in DILUTE["mesh_levels"]])
 
 
 rule dilute_table:

@@ -23,3 +23,4 @@ def grid_dilute():
 
 STUDY_KEYS["grid"] = grid_keys
 STUDY_DILUTE["grid"] = grid_dilute
+DILUTE_KEYS.append(lambda: [(ca, GRID["mesh_level"]) for ca in GRID["ca"]])

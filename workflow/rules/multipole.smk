@@ -3,6 +3,7 @@
 # (eq. 3.11) at distances r/a along the flow, vorticity and gradient directions.
 # The tables figure 1 reads: multipole_tables() (common.smk).
 MULTIPOLE = config["multipole"]
+DILUTE_KEYS.append(lambda: [(ca, MULTIPOLE["mesh_level"]) for ca in MULTIPOLE["ca"]])
 
 
 rule multipole_error:

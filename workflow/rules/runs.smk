@@ -1,48 +1,92 @@
-# One capsim suspension run, shared by every study that needs one (grid, mesh, initial,
-# boxsize, snapshots), and the table of averages of a study's runs. The study's block of
-# the configuration gives t_end and the snapshot interval. Keys in config["run_options"]
-# (e.g. method, ewald.tolerance) go to every suspension run.
-
-
+# The runs of every study, by one generic rule: a run (pipeline.run_spec.RunSpec, found
+# from its folder by run_of()) is a chain of segments (config segments: about 25 minutes
+# each by default), each a job that resumes the run from the previous one's checkpoint and
+# pauses at its own end (`capsim run --pause-at`), so a killed invocation loses at most one
+# segment and a cluster job fits its wall-time limit; the chain ends exactly where the
+# unbroken run would. The last segment writes summary.json. With config archive, every
+# segment is recorded in the results archive as soon as it is done (pipeline.archive),
+# and the Snakefile restores from there what was computed before.
+#
 # The solver is an input only to be built first: ancient() keeps a rebuilt binary from
-# re-running finished runs (a physics change means a new results folder, not a rerun).
-# analysis.capsim_job starts the run, or resumes it from its checkpoint when the folder
-# holds one (a killed job, a cluster time limit, a raised t_end; on resume only t_end,
-# t_avg_start, threads and output.* may change, capsim refuses the rest). It says in the
-# log which it does, locks the log while capsim runs (a second job for the same run is
-# refused) and on failure names the run, how capsim ended and its message.
-# Exit 3 (contact, numerical failure) with summary.json is a success: summary.json says
-# how the run "ended", its data up to the stop stay in the study and the figures name it.
-rule suspension_run:
+# re-running finished runs (a physics change bumps solver/PHYSICS_VERSION, which makes
+# archive records stale). pipeline.job starts the run, or resumes it from its checkpoint
+# when the folder holds one (a killed job, a cluster time limit, a raised t_end; on resume
+# only t_end, t_avg_start, threads and output.* may change, capsim refuses the rest). It
+# says in the log which it does, locks the log while capsim runs (a second job for the
+# same run is refused) and on failure names the run, how capsim ended and its message.
+# Exit 3 (contact, numerical failure) with summary.json is a success for a suspension:
+# summary.json says how the run "ended", its data up to the stop stay in the study and
+# the figures name it; later segments of a stopped run run nothing.
+
+
+def run_job(wc, threads, pause=None):
+    """The command of one segment (pause: its end) or of the last (pause None)."""
+    spec = run_of(wc.study, wc.run)
+    segment = "" if pause is None else f".segment{wc.k}"
+    log = os.path.join("results", "logs", wc.study, f"{wc.run}{segment}.log")
+    words = [PYTHON, "-m", "pipeline.job", "--capsim", CAPSIM, "--dir", spec.folder,
+             "--log", log, "--resume-set", f"threads={threads}",
+             "--resume-set", f"t_end={spec.t_end}",
+             "--resume-set", f"t_avg_start={spec.t_avg_start}"]
+    if not spec.dilute:
+        words.append("--stopped-ok")
+    if pause is not None:
+        words += ["--pause-at", str(pause), "--marker",
+                  str(archive.marker(spec.folder, int(wc.k)))]
+    if ARCHIVE:
+        words += ["--archive", ARCHIVE, "--record", f"{spec.study}/{spec.name}",
+                  "--key", spec.key()] + (["--final-state"] if spec.dilute else [])
+    return " ".join(words) + " -- " + set_options(spec.capsim_options(threads))
+
+
+def run_resource(wc, what):
+    """A run's cluster resource: config resources dilute_<what> or suspension_<what>."""
+    kind = "dilute" if wc.study == "dilute" else "suspension"
+    return config["resources"][f"{kind}_{what}"]
+
+
+def previous_segment(wc, last=False):
+    """The marker of the segment before this one ([] for the first)."""
+    spec = run_of(wc.study, wc.run)
+    k = len(segment_ends(spec)) if last else int(wc.k)
+    return [str(archive.marker(spec.folder, k - 1))] if k > 1 else []
+
+
+rule run_segment:
     input:
         ancient(CAPSIM),
+        previous=previous_segment,
     output:
-        os.path.join("results", "{study}", RUN_NAME, "summary.json"),
+        temp("results/{study}/{run}/segment{k}.done"),
     log:
-        os.path.join("results", "logs", "{study}", f"{RUN_NAME}.log"),
+        "results/logs/{study}/{run}.segment{k}.log",
     params:
-        python=PYTHON,
-        # From the wildcards as before: a changed parameter would redo every finished run.
-        dir=lambda wc: os.path.join("results", wc.study, RUN_NAME.format(**wc)),
-        t_end=lambda wc: config[wc.study]["t_end"],
-        t_avg_start=lambda wc: min(config["averages"]["t_start"], 0.5 * config[wc.study]["t_end"]),
-        snapshots=lambda wc: config[wc.study]["snapshot_interval"],
-        options=run_option_sets(),
-        membrane=lambda wc: membrane_options(wc.membrane),
+        command=lambda wc, threads: run_job(
+            wc, threads, segment_ends(run_of(wc.study, wc.run))[int(wc.k) - 1]),
     threads: config["resources"]["threads"]
     resources:
-        runtime=lambda wc: config["resources"]["suspension_minutes"],
-        mem_mb=lambda wc: config["resources"]["suspension_mem_mb"],
+        runtime=lambda wc: run_resource(wc, "minutes"),
+        mem_mb=lambda wc: run_resource(wc, "mem_mb"),
     shell:
-        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
-        "--log {log} --stopped-ok --resume-set threads={threads} "
-        "--resume-set t_end={params.t_end} -- "
-        "--set ca={wildcards.ca} --set phi={wildcards.phi} --set capsules={wildcards.M} "
-        "--set mesh_level={wildcards.level} --set seed={wildcards.seed} "
-        "--set t_end={params.t_end} --set t_avg_start={params.t_avg_start} "
-        "--set output.snapshot_interval={params.snapshots} {params.options} "
-        "{params.membrane} "
-        "--set threads={threads}"
+        "{params.command}"
+
+
+rule run:
+    input:
+        ancient(CAPSIM),
+        previous=lambda wc: previous_segment(wc, last=True),
+    output:
+        "results/{study}/{run}/summary.json",
+    log:
+        "results/logs/{study}/{run}.log",
+    params:
+        command=lambda wc, threads: run_job(wc, threads),
+    threads: config["resources"]["threads"]
+    resources:
+        runtime=lambda wc: run_resource(wc, "minutes"),
+        mem_mb=lambda wc: run_resource(wc, "mem_mb"),
+    shell:
+        "{params.command}"
 
 
 rule run_table:

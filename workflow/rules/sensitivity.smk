@@ -20,7 +20,7 @@ SENSITIVITY_REFERENCES = [
 
 
 # As every suspension run (runs.smk): started, or resumed from its checkpoint with the
-# configuration's t_end and threads, by analysis.capsim_job. A run that folds or touches
+# configuration's t_end and threads, by pipeline.job. A run that folds or touches
 # (capsim's exit 3) is a success with summary.json: how and when it stopped is a result
 # of this study, and its data up to the stop stay. The dilute runs stop the same way
 # here (the dilute study's own runs fail instead: its table has no row for a stopped run).
@@ -46,7 +46,7 @@ rule sensitivity_run:
         mem_mb=lambda wc: config["resources"][
             "suspension_mem_mb" if SENSITIVITY_RUNS[wc.name].phi > 0 else "dilute_mem_mb"],
     shell:
-        "{params.python} -m analysis.capsim_job --capsim {input} --dir {params.dir} "
+        "{params.python} -m pipeline.job --capsim {input} --dir {params.dir} "
         "--log {log} --stopped-ok --resume-set threads={threads} "
         "--resume-set t_end={params.t_end} -- {params.options}"
 

@@ -1,12 +1,16 @@
-"""One capsim run as a workflow job: the command of the workflow's run rules.
+"""One capsim run, or one segment of it, as a workflow job: the command of the run rules.
 
-    python -m analysis.capsim_job --capsim CAPSIM --dir RUN_DIR --log LOG
-        [--resume-set KEY=VALUE ...] [--stopped-ok] -- --set KEY=VALUE ...
+    python -m pipeline.job --capsim CAPSIM --dir RUN_DIR --log LOG [--pause-at T]
+        [--marker FILE] [--archive DIR --record STUDY/NAME --key KEY] [--stopped-ok]
+        [--resume-set KEY=VALUE ...] -- --set KEY=VALUE ...
 
-A folder that holds a checkpoint (a run that was killed, or one whose t_end was raised)
-is continued with `capsim run --resume RUN_DIR` and the --resume-set keys (those capsim
-lets change on resume: t_end, threads, ...); otherwise the run starts afresh with the keys
-after `--`. Either way:
+A folder that holds a checkpoint (a run that was killed, a segment that paused, a run
+restored from the archive, one whose t_end was raised) is continued with `capsim run
+--resume RUN_DIR` and the --resume-set keys (those capsim lets change on resume: t_end,
+threads, ...); otherwise the run starts afresh with the keys after `--`. With --pause-at
+the job is one segment of the run: capsim stops at its first checkpoint at or after T
+(`capsim run --pause-at`), and the next segment resumes it to the last bit; a folder whose
+checkpoint is already at T (restored from the archive) runs nothing. Either way:
 
 - capsim's output is appended to LOG after one line that says what this attempt does
   (snakemake removes a job's old log before it starts the job, so there LOG holds the
@@ -17,6 +21,10 @@ after `--`. Either way:
 - capsim's OpenMP threads sleep rather than spin while they wait (OMP_WAIT_POLICY
   passive, unless the environment sets it): as fast alone on the machine, and far faster
   when other jobs share its cores (docs/performance.md);
+- each attempt that ends well appends its provenance to RUN_DIR/segments.json (strain
+  covered, CPU and wall seconds, threads, machine, date, commit), and with --archive the
+  folder is recorded in the results archive (pipeline.archive) at once: a segment
+  computed is a segment kept;
 - a failure ends with one line on stderr and in LOG naming the run, how capsim ended
   (its exit status, or the signal that killed it), its error message and LOG.
 
@@ -34,35 +42,86 @@ and log.
 import argparse
 import datetime
 import fcntl
+import json
 import os
+import platform
+import resource
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
+import h5py
+
+from pipeline.run_spec import ROOT
+
 STOPPED = 3  # capsim: the run stopped early (contact, numerical failure)
-START = "capsim_job: start"  # the first line of each attempt in the log
-FAILED = "capsim_job: run "  # the last line of a failed one
+START = "job: start"  # the first line of each attempt in the log
+FAILED = "job: run "  # the last line of a failed one
 
 
-def option_value(value):
-    """A configuration value as capsim's `--set key=value` spells it: YAML's booleans as
-    true/false (capsim refuses Python's True), the rest as str() writes it."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return str(value)
-
-
-def set_options(options):
-    """`--set key=value` for each item of a mapping, in its order."""
-    return " ".join(f"--set {k}={option_value(v)}" for k, v in options.items())
-
-
-def capsim_command(capsim, run_dir, fresh_args, resume_args):
+def capsim_command(capsim, run_dir, fresh_args, resume_args, pause_at=None):
     """The capsim command line for RUN_DIR, and whether it resumes."""
+    pause = ["--pause-at", str(pause_at)] if pause_at is not None else []
     if (Path(run_dir) / "checkpoint.h5").exists():
-        return [capsim, "run", "-q", "--resume", str(run_dir), *resume_args], True
-    return [capsim, "run", "-q", *fresh_args, "-o", str(run_dir)], False
+        return [capsim, "run", "-q", "--resume", str(run_dir), *resume_args, *pause], True
+    return [capsim, "run", "-q", *fresh_args, "-o", str(run_dir), *pause], False
+
+
+def checkpoint_time(run_dir):
+    """gammadot t of the run's checkpoint (None without one)."""
+    path = Path(run_dir) / "checkpoint.h5"
+    if not path.exists():
+        return None
+    with h5py.File(path, "r") as f:
+        return float(f["time"][()])
+
+
+def stopped(run_dir):
+    """Whether the run stopped early (summary.json with `ended` other than t_end)."""
+    path = Path(run_dir) / "summary.json"
+    return path.exists() and json.loads(path.read_text()).get("ended") != "t_end"
+
+
+def git_commit():
+    """The repository's commit, with "-dirty" when tracked files differ from it ("" when
+    git cannot tell)."""
+    def git(*args):
+        return subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True,
+                              text=True, check=False)
+    head = git("rev-parse", "HEAD")
+    if head.returncode != 0:
+        return ""
+    dirty = git("status", "--porcelain", "--untracked-files=no", "--", "solver").stdout
+    return head.stdout.strip() + ("-dirty" if dirty.strip() else "")
+
+
+def machine():
+    """The machine in a few words: host, CPU model, cores."""
+    model = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return f"{platform.node()}: {model}, {os.cpu_count()} cores"
+
+
+def record_segment(run_dir, t_from, cpu_seconds, wall_seconds, threads):
+    """Appends one attempt's provenance to RUN_DIR/segments.json."""
+    path = Path(run_dir) / "segments.json"
+    segments = json.loads(path.read_text()) if path.exists() else []
+    segments.append({"t_from": t_from, "t_to": checkpoint_time(run_dir),
+                     "cpu_seconds": round(cpu_seconds, 2),
+                     "wall_seconds": round(wall_seconds, 2), "threads": threads,
+                     "machine": machine(), "commit": git_commit(),
+                     "date": datetime.datetime.now().isoformat(timespec="seconds")})
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(segments, indent=1) + "\n")
+    tmp.replace(path)
 
 
 def how_it_ended(returncode):
@@ -85,15 +144,26 @@ def last_message(log, offset):
     return lines[-1] if lines else ""
 
 
+def _children_cpu():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _threads(cmd):
+    """The threads=N of a capsim command line (None where it sets none)."""
+    values = [a.split("=", 1)[1] for a in cmd if a.startswith("threads=")]
+    return int(values[-1]) if values else None
+
+
 def _job_environment():
     """The environment of capsim: this one, with OMP_WAIT_POLICY passive by default."""
     return {"OMP_WAIT_POLICY": "passive", **os.environ}
 
 
-def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False):
-    """Runs (or resumes) one capsim run with its output appended to LOG; returns the
-    job's exit status (0 for success)."""
-    cmd, resumed = capsim_command(capsim, run_dir, fresh_args, resume_args)
+def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False, pause_at=None):
+    """Runs (or resumes) one capsim run, or its segment to PAUSE_AT, with its output
+    appended to LOG; returns the job's exit status (0 for success)."""
+    cmd, resumed = capsim_command(capsim, run_dir, fresh_args, resume_args, pause_at)
     Path(log).parent.mkdir(parents=True, exist_ok=True)
     with open(log, "ab") as out:
         try:
@@ -101,22 +171,27 @@ def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False):
         except BlockingIOError:
             message = (f"run {run_dir} is already running (its log {log} is locked by "
                        "another job): not started a second time")
-            print(f"capsim_job: {message}", file=sys.stderr)
+            print(f"job: {message}", file=sys.stderr)
             return 1
         now = datetime.datetime.now().isoformat(timespec="seconds")
         what = "resuming from its checkpoint" if resumed else "starting afresh"
         out.write(f"{START} {now}: {run_dir}: {what}: {' '.join(cmd)}\n".encode())
         out.flush()
         offset = out.tell()
+        t_from = checkpoint_time(run_dir) or 0.0
+        cpu_before, wall_before = _children_cpu(), time.monotonic()
         # capsim writes to the locked file itself, so the lock lasts as long as capsim,
         # even if this process is killed first.
         returncode = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT,
                                     env=_job_environment()).returncode
         summary = Path(run_dir) / "summary.json"
+        if returncode in (0, STOPPED) and checkpoint_time(run_dir) is not None:
+            record_segment(run_dir, t_from, _children_cpu() - cpu_before,
+                           time.monotonic() - wall_before, _threads(cmd))
         if returncode == 0:
             return 0
         if returncode == STOPPED and summary.exists() and stopped_ok:
-            print(f"capsim_job: {run_dir} stopped early (see 'ended' in {summary}): {log}",
+            print(f"job: {run_dir} stopped early (see 'ended' in {summary}): {log}",
                   file=sys.stderr)
             return 0
         message = last_message(log, offset) or "no message (see the log)"
@@ -171,7 +246,7 @@ def failure_report(snakemake_logs):
             attempts = Path(job["log"]).read_text(errors="replace").split(START)
             failed = [line for line in attempts[-1].splitlines() if line.startswith(FAILED)]
         if failed:  # names the run, how capsim ended, its message and the log
-            lines.append("  " + failed[-1][len("capsim_job: "):])
+            lines.append("  " + failed[-1][len("job: "):])
         else:
             lines.append(f"  rule {job['rule']} ({job['wildcards'] or job['output']}): "
                          f"log {job['log'] or '-'}")
@@ -192,9 +267,33 @@ def main(argv=None):
                     help="a key given on resume (t_end, threads, ...)")
     ap.add_argument("--stopped-ok", action="store_true",
                     help="a run that stopped early (exit 3, summary.json written) succeeds")
+    ap.add_argument("--pause-at", type=float, metavar="T",
+                    help="run one segment: to the first checkpoint at or after strain T")
+    ap.add_argument("--marker", help="with --pause-at: the file that says the segment "
+                    "is done (the output of a segment job)")
+    ap.add_argument("--archive", help="the results archive to record the folder in")
+    ap.add_argument("--record", help="with --archive: the record's name, STUDY/NAME")
+    ap.add_argument("--key", help="with --archive: the run's provenance key")
+    ap.add_argument("--final-state", action="store_true",
+                    help="with --archive: a finished run keeps its last checkpoint")
     args = ap.parse_args(argv)
+    if args.archive and not (args.record and args.key):
+        ap.error("--archive needs --record and --key")
     resume = [a for kv in args.resume_set for a in ("--set", kv)]
-    return run_job(args.capsim, args.dir, args.log, fresh, resume, args.stopped_ok)
+    reached = checkpoint_time(args.dir)
+    if args.pause_at is not None and (stopped(args.dir) or
+                                      (reached is not None and reached >= args.pause_at)):
+        status = 0  # restored past this segment's end, or stopped early before it
+    else:
+        status = run_job(args.capsim, args.dir, args.log, fresh, resume, args.stopped_ok,
+                         args.pause_at)
+    if status == 0 and args.archive:
+        from pipeline import archive
+        archive.collect(args.dir, Path(args.archive) / args.record, args.key,
+                        final_state=args.final_state)
+    if status == 0 and args.marker:
+        Path(args.marker).write_text(json.dumps({"t": checkpoint_time(args.dir)}) + "\n")
+    return status
 
 
 if __name__ == "__main__":

@@ -1,0 +1,370 @@
+"""The results archive: compact, checksummed records of runs, kept in the repository
+(archive/<configuration>/), from which the workflow restores a run instead of computing it.
+
+A record is a folder <archive>/<study>/<name>/, the run folder's own path under results/:
+
+    record.json      provenance: the run's key (pipeline.run_spec), physics version,
+                     resolved options (run.yaml), how far it got, its segments (strain,
+                     CPU and wall seconds, threads, machine, commit, date), the sha256 of
+                     every other file, and the sha256 of its own content (`checksum`)
+    run.yaml         capsim's resolved options
+    timeseries.h5    every row of the time series, losslessly (gzip, shuffle, fletcher32)
+    summary.json     a finished run only
+    state.h5         a capsim checkpoint: the latest of an unfinished run (to continue
+                     from); of a finished run, the start of its last segment (an audit
+                     replays that segment and compares rows; raising t_end continues
+                     from it), none where it ran in one segment; of a dilute run, its
+                     end (figure 1 reads its capsule; a few kB)
+    snapshot_*.h5    the last mesh snapshot, for runs that write snapshots (figure 2)
+
+Why not Snakemake's own mechanisms: its between-workflow cache (`--cache`) stores whole
+outputs under a hash of the rule's code, parameters and software environment, outside
+the repository, and only for rules whose outputs are complete; it cannot hold half a run,
+keep a record small, or be committed and reviewed. Storage plugins move files to remote
+storage but do not decide which run is which. A record keyed by the run's own physics
+(its options and the solver's physics version), checked file by file, in git, does.
+
+    python -m pipeline.archive verify ARCHIVE_OR_RECORD...   check records (exit 1 if bad)
+    python -m pipeline.archive list ARCHIVE...               one line per record
+    python -m pipeline.archive replay --capsim C RECORD...   recompute the stretch after
+                                                             each record's state, compare
+"""
+
+import argparse
+import hashlib
+import json
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+import yaml
+
+from pipeline.run_spec import physics_version
+
+FORMAT = 1
+RECORD = "record.json"
+SUMMARY, RUN_YAML, SERIES = "summary.json", "run.yaml", "timeseries.h5"
+STATE = "state.h5"
+CHECKPOINT = "checkpoint.h5"
+
+
+class ArchiveError(RuntimeError):
+    """A record that cannot be used: its checksum or format is wrong."""
+
+
+def sha256(path):
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _content_checksum(record):
+    content = {k: v for k, v in record.items() if k != "checksum"}
+    text = json.dumps(content, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _checkpoint_time(path):
+    with h5py.File(path, "r") as f:
+        return float(f["time"][()])
+
+
+def repack_series(source, target):
+    """Copies a time series losslessly into a compact file: every dataset with gzip 9
+    over shuffled bytes (a float's high bytes vary slowly along the rows), fletcher32
+    kept, the first axis extensible as capsim writes it (a run continues from it)."""
+    with h5py.File(source, "r") as src, h5py.File(target, "w") as dst:
+        dst.attrs.update(dict(src.attrs))
+
+        def copy(name, obj):
+            if not isinstance(obj, h5py.Dataset):
+                return
+            data = obj[()]
+            rows = max(1, data.shape[0]) if data.ndim else None
+            chunks = (min(rows, 4096),) + data.shape[1:] if data.ndim else None
+            out = dst.create_dataset(
+                name, data=data, chunks=chunks, maxshape=(None,) + data.shape[1:],
+                compression="gzip", compression_opts=9, shuffle=True, fletcher32=True)
+            out.attrs.update(dict(obj.attrs))
+
+        src.visititems(copy)
+
+
+def _last_snapshot(run_dir):
+    files = sorted((Path(run_dir) / "snapshots").glob("snapshot_*.h5"))
+    return files[-1] if files else None
+
+
+def read_record(record_dir):
+    """record.json of a record, checked: its format, its own checksum and the sha256 of
+    every file it lists. Raises ArchiveError naming the record and what is wrong."""
+    record_dir = Path(record_dir)
+    path = record_dir / RECORD
+    try:
+        record = json.loads(path.read_text())
+    except (OSError, ValueError) as e:
+        raise ArchiveError(f"archive record {record_dir}: {RECORD} cannot be read ({e})")
+    if not isinstance(record, dict) or record.get("format") != FORMAT:
+        raise ArchiveError(f"archive record {record_dir}: unknown format "
+                           f"{record.get('format') if isinstance(record, dict) else '?'} "
+                           f"(this version reads format {FORMAT})")
+    if record.get("checksum") != _content_checksum(record):
+        raise ArchiveError(f"archive record {record_dir}: {RECORD} does not match its "
+                           "checksum (edited or damaged)")
+    for name, digest in record["files"].items():
+        file = record_dir / name
+        if not file.is_file():
+            raise ArchiveError(f"archive record {record_dir}: {name} is missing")
+        if sha256(file) != digest:
+            raise ArchiveError(f"archive record {record_dir}: {name} does not match its "
+                               "sha256 in record.json (edited or damaged)")
+    return record
+
+
+def reached(run_dir):
+    """How far a run folder got: (finished, t) with t the checkpoint's time, or the end
+    of a finished run; None for a folder without a run."""
+    run_dir = Path(run_dir)
+    if (run_dir / SUMMARY).exists():  # its t_end: the last row (a stop's time)
+        return True, float(json.loads((run_dir / SUMMARY).read_text())["t_end"] or 0)
+    if (run_dir / CHECKPOINT).exists():
+        return False, _checkpoint_time(run_dir / CHECKPOINT)
+    return None
+
+
+def collect(run_dir, record_dir, key, final_state=False):
+    """Records the run folder in the archive (replacing an older record of it; a record
+    of the same key that reached further is kept). final_state: a finished run keeps its
+    last checkpoint as its state (a dilute run: figure 1 reads its capsule). Returns the
+    record."""
+    run_dir, record_dir = Path(run_dir), Path(record_dir)
+    state = reached(run_dir)
+    if state is None:
+        raise ArchiveError(f"{run_dir}: no run to record (no summary.json, no checkpoint)")
+    finished, t = state
+    previous = None
+    if (record_dir / RECORD).exists():
+        try:
+            previous = read_record(record_dir)
+        except ArchiveError:
+            previous = None  # a broken record is replaced
+    if previous and previous["key"] == key and previous["t_reached"] > t:
+        return previous
+    tmp = record_dir.with_name(record_dir.name + ".tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir(parents=True)
+    shutil.copyfile(run_dir / RUN_YAML, tmp / RUN_YAML)
+    repack_series(run_dir / SERIES, tmp / SERIES)
+    state_time = None
+    if finished:
+        shutil.copyfile(run_dir / SUMMARY, tmp / SUMMARY)
+        audit = record_dir / STATE
+        if final_state:
+            shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
+            state_time = _checkpoint_time(run_dir / CHECKPOINT)
+        elif (previous and previous["key"] == key and previous["state_time"] is not None
+                and previous["state_time"] < t):  # the start of the last segment
+            shutil.copyfile(audit, tmp / STATE)
+            state_time = previous["state_time"]
+    else:
+        shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
+        state_time = t
+    snapshot = _last_snapshot(run_dir)
+    if snapshot is not None:
+        shutil.copyfile(snapshot, tmp / snapshot.name)
+    segments_file = run_dir / "segments.json"
+    segments = json.loads(segments_file.read_text()) if segments_file.exists() else []
+    summary = json.loads((run_dir / SUMMARY).read_text()) if finished else {}
+    if not segments and summary:  # a run made outside the job: its last invocation only
+        segments = [{"t_from": None, "t_to": t, "cpu_seconds": summary.get("cpu_seconds"),
+                     "wall_seconds": summary.get("wall_seconds"),
+                     "threads": summary.get("threads"), "machine": None,
+                     "commit": None, "date": None}]
+    options = yaml.safe_load((run_dir / RUN_YAML).read_text())
+    with h5py.File(run_dir / SERIES, "r") as f:
+        rows = int(f["time"].shape[0])
+        t_last = float(f["time"][-1]) if rows else 0.0
+    record = {
+        "format": FORMAT, "key": key, "physics_version": physics_version(),
+        "study": record_dir.parent.name, "name": record_dir.name,
+        "finished": finished, "ended": summary.get("ended"),
+        "t_end": options.get("t_end"), "t_avg_start": options.get("t_avg_start"),
+        "t_reached": t, "rows": rows, "t_last_row": t_last, "state_time": state_time,
+        "solver_version": summary.get("version"), "options": options,
+        "segments": segments,
+        "cpu_seconds": round(sum(s.get("cpu_seconds") or 0 for s in segments), 2),
+        "files": {p.name: sha256(p) for p in sorted(tmp.iterdir())},
+    }
+    record["checksum"] = _content_checksum(record)
+    (tmp / RECORD).write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+    old = record_dir.with_name(record_dir.name + ".old")
+    shutil.rmtree(old, ignore_errors=True)
+    if record_dir.exists():
+        record_dir.rename(old)
+    tmp.rename(record_dir)
+    shutil.rmtree(old, ignore_errors=True)
+    return record
+
+
+def restore(record_dir, run_dir, record, full):
+    """Writes a record into a run folder: everything a finished run's readers need when
+    `full` (summary.json included), else the time series and the state to continue
+    from (as checkpoint.h5) only."""
+    record_dir, run_dir = Path(record_dir), Path(run_dir)
+    shutil.rmtree(run_dir, ignore_errors=True)
+    run_dir.mkdir(parents=True)
+    shutil.copyfile(record_dir / RUN_YAML, run_dir / RUN_YAML)
+    shutil.copyfile(record_dir / SERIES, run_dir / SERIES)
+    if record["state_time"] is not None:
+        shutil.copyfile(record_dir / STATE, run_dir / CHECKPOINT)
+    for snapshot in record_dir.glob("snapshot_*.h5"):
+        (run_dir / "snapshots").mkdir(exist_ok=True)
+        shutil.copyfile(snapshot, run_dir / "snapshots" / snapshot.name)
+    (run_dir / "segments.json").write_text(json.dumps(record["segments"], indent=1) + "\n")
+    if full:
+        shutil.copyfile(record_dir / SUMMARY, run_dir / SUMMARY)
+
+
+def marker(run_dir, k):
+    """The file that says segment k of a run is done (the output of its job)."""
+    return Path(run_dir) / f"segment{k}.done"
+
+
+def _usable(record, spec, key, current):
+    """How a checked record serves a run: "full", "partial" (a state to continue from),
+    or why not: "stale" (another physics version), "changed" (other options), None."""
+    if record["physics_version"] != current:
+        return "stale"
+    if record["key"] != key:
+        return "changed"
+    if (record["finished"] and record["t_end"] == spec.t_end
+            and record["t_avg_start"] == spec.t_avg_start):
+        return "full"
+    if record["state_time"] is not None and record["state_time"] < spec.t_end:
+        return "partial"
+    return None
+
+
+def sync(specs, archive_root, segment_ends, workdir="."):
+    """Brings the run folders of a configuration and its archive up to date with each
+    other, before the workflow decides what to run: a record that reaches further than
+    the folder is restored into it (a finished one whole; an unfinished one as its state,
+    with the marker of its last segment done), and a folder that reaches further than
+    the archive is recorded. segment_ends(spec): the pause times of the run's segments.
+    Returns {"restored": [...], "partial": [...], "recorded": [...], "stale": [...],
+    "changed": [...]} (run folders). Raises ArchiveError for a damaged record."""
+    current = physics_version()
+    report = {k: [] for k in ("restored", "partial", "recorded", "stale", "changed")}
+    for spec in specs:
+        run_dir = Path(workdir) / spec.folder
+        record_dir = Path(archive_root) / spec.study / spec.name
+        key = spec.key(current)
+        record = read_record(record_dir) if (record_dir / RECORD).exists() else None
+        use = _usable(record, spec, key, current) if record else None
+        if use in ("stale", "changed"):
+            report[use].append(spec.folder)
+        local = reached(run_dir)
+        if use == "full" and (local is None or not local[0]):
+            restore(record_dir, run_dir, record, full=True)
+            report["restored"].append(spec.folder)
+        elif use == "partial" and (local is None or
+                                   (not local[0] and local[1] < record["state_time"])):
+            restore(record_dir, run_dir, record, full=False)
+            done = [k for k, t in enumerate(segment_ends(spec)[:-1], 1)
+                    if t <= record["state_time"]]
+            if done:
+                marker(run_dir, done[-1]).write_text(
+                    json.dumps({"t": record["state_time"]}) + "\n")
+            report["partial"].append(spec.folder)
+        elif local is not None and (use not in ("full", "partial") or local[0] or
+                                    local[1] > record["t_reached"]):
+            if use != "full" or not (record_dir / SUMMARY).exists():
+                collect(run_dir, record_dir, key, final_state=spec.dilute)
+                report["recorded"].append(spec.folder)
+    return report
+
+
+def replay(record_dir, capsim, threads=None):
+    """Recomputes a record's rows after its state: restores the state into a scratch
+    folder, resumes capsim to the record's t_reached, and returns (rows compared, the
+    largest absolute difference over every dataset of those rows). The same thread count
+    as the record's last segment (threads None) gives the same reductions in the same
+    order, so the difference is exactly 0; another count changes the last bits of the
+    sums (relative 1e-15 a step, growing with the steps replayed)."""
+    record = read_record(record_dir)
+    if record["state_time"] is None or record["state_time"] >= record["t_reached"]:
+        raise ArchiveError(f"archive record {record_dir}: no state before its last row "
+                           "to replay from")
+    threads = threads or record["segments"][-1].get("threads") or 1
+    with tempfile.TemporaryDirectory() as scratch:
+        run_dir = Path(scratch) / "run"
+        restore(record_dir, run_dir, record, full=False)
+        subprocess.run([str(capsim), "run", "-q", "--resume", str(run_dir), "--set",
+                        f"t_end={record['t_reached']}", "--set", f"threads={threads}"],
+                       check=True, capture_output=True)
+        with h5py.File(record_dir / SERIES, "r") as a, \
+                h5py.File(run_dir / SERIES, "r") as b:
+            start = int(np.searchsorted(a["time"][()], record["state_time"], "right"))
+            names = []
+            a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset)
+                         else None)
+            if b["time"].shape != a["time"].shape:
+                raise ArchiveError(f"archive record {record_dir}: the replay wrote "
+                                   f"{b['time'].shape[0]} rows, the record holds "
+                                   f"{a['time'].shape[0]}")
+            diff = max(float(np.max(np.abs(a[n][start:] - b[n][start:]), initial=0.0))
+                       for n in names)
+            return a["time"].shape[0] - start, diff
+
+
+def _records(paths):
+    for path in map(Path, paths):
+        if (path / RECORD).exists():
+            yield path
+        else:
+            yield from sorted(p.parent for p in path.rglob(RECORD))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description="Check or list the records of a results "
+                                 "archive.")
+    ap.add_argument("command", choices=["verify", "list", "replay"])
+    ap.add_argument("paths", nargs="+", help="archive folders or records")
+    ap.add_argument("--capsim", default=str(Path(__file__).resolve().parent.parent /
+                                            "build" / "capsim"),
+                    help="the solver, for replay (default build/capsim)")
+    args = ap.parse_args(argv)
+    bad = 0
+    current = physics_version()
+    for path in _records(args.paths):
+        try:
+            record = read_record(path)
+        except ArchiveError as e:
+            print(e, file=sys.stderr)
+            bad += 1
+            continue
+        if args.command == "replay":
+            if record["state_time"] is None or record["state_time"] >= record["t_reached"]:
+                continue
+            rows, diff = replay(path, args.capsim)
+            print(f"{path}: {rows} rows from t {record['state_time']:g} replayed, largest "
+                  f"difference {diff:.3g}")
+            bad += diff != 0
+        if args.command == "list":
+            stale = "" if record["physics_version"] == current else " STALE"
+            state = "finished" if record["finished"] else "partial"
+            print(f"{path}: {state} t {record['t_reached']:g}/{record['t_end']:g}, "
+                  f"{record['cpu_seconds']:.0f} CPU s, key {record['key'][:12]}{stale}")
+    if args.command == "verify":
+        print(f"archive: {bad} bad record(s)" if bad else "archive: every record is sound")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,153 @@
+"""One capsim run of the workflow, described once: its folder name, its capsim options,
+its provenance key, its segments and its estimated cost.
+
+Every study asks for runs as RunSpec objects; the generic run rule (workflow/rules/runs.smk),
+the results archive (pipeline.archive) and the job (pipeline.job) all read them from here,
+so a folder name or an option is spelled in one place.
+
+A suspension run folder names all that distinguishes the run within a configuration:
+    ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>]
+(the membrane code of analysis.membrane where the run does not carry the paper's), a
+dilute run (one capsule in unbounded shear) ca<Ca>_level<level>.
+
+The provenance key is a hash of the physics version (solver/PHYSICS_VERSION) and every
+option that changes the trajectory. t_end and t_avg_start are left out: a record that
+reached t_end = 20 is the first part of the same run to t_end = 30, and t_avg_start changes
+only the averages of summary.json. threads and backend are left out too: they change the
+last bits of the floating-point reductions, not the physics (a record says which it used).
+"""
+
+import dataclasses
+import hashlib
+import json
+import math
+from pathlib import Path
+
+from analysis import membrane as membrane_codes
+
+ROOT = Path(__file__).resolve().parent.parent
+PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
+
+# Options given on every segment of a run rather than fixed at its start: capsim lets
+# them change on resume, and none of them changes the trajectory.
+RESUME_KEYS = ("t_end", "t_avg_start", "threads")
+
+
+def physics_version():
+    """The solver's physics version: the first word of solver/PHYSICS_VERSION."""
+    return PHYSICS_VERSION_FILE.read_text().split()[0]
+
+
+def option_value(value):
+    """A configuration value as capsim's `--set key=value` spells it: YAML's booleans as
+    true/false (capsim refuses Python's True), the rest as str() writes it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def set_options(options):
+    """`--set key=value` for each item of a mapping, in its order."""
+    return " ".join(f"--set {k}={option_value(v)}" for k, v in options.items())
+
+
+@dataclasses.dataclass(frozen=True)
+class RunSpec:
+    """One run. study: the results folder that holds it ("dilute" for phi = 0);
+    options: the configuration's run_options (suspensions only)."""
+
+    study: str
+    ca: float
+    level: int
+    t_end: float
+    t_avg_start: float
+    phi: float = 0.0
+    M: int = 1
+    seed: int = 1
+    membrane: str = membrane_codes.PAPER
+    snapshot_interval: float = 0.0
+    options: tuple = ()  # (key, value) pairs of run_options, sorted
+
+    @property
+    def dilute(self):
+        return self.study == "dilute"
+
+    @property
+    def name(self):
+        if self.dilute:
+            return f"ca{self.ca}_level{self.level}"
+        suffix = "" if self.membrane == membrane_codes.PAPER else "_" + self.membrane
+        return (f"ca{self.ca}_phi{self.phi}_M{self.M}_level{self.level}_seed{self.seed}"
+                f"{suffix}")
+
+    @property
+    def folder(self):
+        """The run folder, relative to the workflow's working directory."""
+        return f"results/{self.study}/{self.name}"
+
+    def trajectory_options(self):
+        """The capsim options that fix the trajectory, as a dict in command-line order
+        (membrane options last: a rep<F0> overrides run_options' repulsion)."""
+        if self.dilute:
+            return {"ca": self.ca, "mesh_level": self.level}
+        out = {"ca": self.ca, "phi": self.phi, "capsules": self.M,
+               "mesh_level": self.level, "seed": self.seed,
+               "output.snapshot_interval": self.snapshot_interval}
+        out.update(dict(self.options))
+        for option in membrane_codes.options(self.membrane):
+            key, value = option.split("=", 1)
+            out[key] = value
+        return out
+
+    def capsim_options(self, threads):
+        """Every `--set` of a fresh start, as a dict."""
+        return {**self.trajectory_options(), "t_end": self.t_end,
+                "t_avg_start": self.t_avg_start, "threads": threads}
+
+    def key(self, version=None):
+        """The provenance key: sha256 of the physics version and the trajectory options,
+        as capsim is given them (hex)."""
+        content = {"physics_version": version or physics_version(),
+                   "options": {k: option_value(v)
+                               for k, v in sorted(self.trajectory_options().items())}}
+        text = json.dumps(content, sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def seconds_per_strain(self):
+        """Estimated wall seconds per unit strain on 2 cores (measured on the
+        quantitative configuration: level 3, M 27, Ca 0.2 about 21 s, level 4 about
+        10 times that, bending eb about 5 times, dt proportional to Ca; the dilute
+        capsule about 0.5 s at level 3)."""
+        per_level = 9.0 ** (self.level - 3)
+        base = 0.5 if self.dilute else 21.0 * self.M / 27
+        stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
+        return base * per_level * stiff * 0.2 / self.ca
+
+    def segment_ends(self, minutes=None, strain=None):
+        """The pause times of the run's segments and its t_end last: segments of
+        `strain` units, or of about `minutes` of wall time by seconds_per_strain()
+        (whole strain units, at least one); one segment when neither is given."""
+        if strain is None and minutes is None:
+            return [self.t_end]
+        if strain is None:
+            strain = max(1.0, math.floor(60.0 * minutes / self.seconds_per_strain()))
+        count = max(1, math.ceil(self.t_end / strain - 1e-9))
+        return [round(k * strain, 9) for k in range(1, count)] + [self.t_end]
+
+
+def suspension(study, keys, block, averages_start, run_options):
+    """The RunSpec of a suspension run of `study` with keys (ca, phi, M, level, seed[,
+    membrane]) from its configuration block (t_end, snapshot_interval)."""
+    t_end = block["t_end"]
+    return RunSpec(study=study, ca=keys["ca"], phi=keys["phi"], M=keys["M"],
+                   level=keys["level"], seed=keys["seed"],
+                   membrane=keys.get("membrane", membrane_codes.PAPER), t_end=t_end,
+                   t_avg_start=min(averages_start, 0.5 * t_end),
+                   snapshot_interval=block.get("snapshot_interval", 0),
+                   options=tuple(sorted(run_options.items())))
+
+
+def dilute(ca, level, block):
+    """The RunSpec of a dilute run from the configuration's dilute block."""
+    return RunSpec(study="dilute", ca=ca, level=level, t_end=block["t_end"],
+                   t_avg_start=block["t_avg_start"])

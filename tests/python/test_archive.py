@@ -1,0 +1,149 @@
+"""The results archive and segmented runs (docs/workflow.md, "The results archive"), on a
+tiny study (the initial-position study: two seeds, M 2, level 1) in temporary folders:
+
+- a run stopped after two of its three segments and archived is continued in a fresh
+  working directory from the archive alone (the new clone of a repository that holds
+  the archive), which runs only the missing segments; its time series equal those of the
+  same study run unsegmented and without an archive, to the last bit, and so do the
+  figure data;
+- a third fresh working directory restores every run (its dry run lists no run job) and
+  regenerates the same figure data;
+- replaying the last segment from a record's state gives its archived rows to the last
+  bit (same thread count, so the same reductions in the same order);
+- a record whose file, record.json or format was changed is refused, naming it, by the
+  archive and by the workflow.
+
+About 30 s on 2 cores. Skipped when build/capsim or snakemake is missing."""
+
+import json
+import shutil
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+import yaml
+
+from pipeline import archive
+
+from test_workflow_ci import CAPSIM, ROOT, SNAKEMAKE, pytestmark  # noqa: F401 (the skips)
+
+# Three segments of 0.2 strain units (checkpoints every 0.1) to t_end 0.6, with a step
+# small enough for several rows per segment.
+STUDY = {
+    "averages": {"t_start": 0.1},
+    "resources": {"threads": 2},
+    "run_options": {"output.checkpoint_interval": 0.1, "dt_safety": 0.1},
+    "initial": {"ca": 0.4, "phi": 0.2, "capsules": 2, "mesh_level": 1, "seeds": [1, 2],
+                "t_end": 0.6},
+    "segments": {"strain": 0.2},
+}
+RUNS = ["results/initial/ca0.4_phi0.2_M2_level1_seed1",
+        "results/initial/ca0.4_phi0.2_M2_level1_seed2"]
+FIGURE = "results/figures/fig11.csv"
+
+
+def snakemake(workdir, config, *targets, dry=False):
+    workdir.mkdir(parents=True, exist_ok=True)
+    (workdir / "study.yaml").write_text(yaml.safe_dump(config))
+    exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
+    cmd = [exe, "--cores", "2", "--snakefile", str(ROOT / "Snakefile"), "--directory",
+           str(workdir), *(["-n"] if dry else []), *targets, "--configfile",
+           str(workdir / "study.yaml")]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+
+
+def run_jobs(dry_run_output):
+    """The run and run_segment jobs a dry run lists: {rule: count}."""
+    counts = {}
+    for line in dry_run_output.splitlines():
+        words = line.split()
+        if len(words) == 2 and words[0] in ("run", "run_segment") and words[1].isdigit():
+            counts[words[0]] = int(words[1])
+    return counts
+
+
+def series(run_dir):
+    with h5py.File(run_dir / "timeseries.h5", "r") as f:
+        out = {}
+        f.visititems(lambda n, o: out.__setitem__(n, o[()])
+                     if isinstance(o, h5py.Dataset) else None)
+    return out
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """Runs the study three ways; returns their folders and the archive."""
+    base = tmp_path_factory.mktemp("archive_study")
+    store = base / "archive"
+    with_archive = {**STUDY, "archive": str(store)}
+    plain = snakemake(base / "plain", {**STUDY, "segments": {"strain": None,
+                                                             "minutes": None}}, FIGURE)
+    assert plain.returncode == 0, plain.stderr[-3000:]
+    # Two segments of each run, recorded in the archive; then this folder is gone.
+    first = snakemake(base / "first", with_archive,
+                      *[f"{run}/segment2.done" for run in RUNS])
+    assert first.returncode == 0, first.stderr[-3000:]
+    partial = [archive.read_record(store / "initial" / r.split("/")[-1]) for r in RUNS]
+    clone = snakemake(base / "clone", with_archive, FIGURE, dry=True)
+    continued = snakemake(base / "clone", with_archive, FIGURE)
+    assert continued.returncode == 0, continued.stderr[-3000:]
+    restored_dry = snakemake(base / "restored", with_archive, FIGURE, dry=True)
+    restored = snakemake(base / "restored", with_archive, FIGURE)
+    assert restored.returncode == 0, restored.stderr[-3000:]
+    return {"base": base, "store": store, "config": with_archive, "partial": partial,
+            "clone_dry": clone.stdout + clone.stderr,
+            "restored_dry": restored_dry.stdout + restored_dry.stderr}
+
+
+def test_a_stopped_segmented_run_continues_from_the_archive_to_the_same_bits(study):
+    for record in study["partial"]:
+        assert not record["finished"] and 0.4 <= record["state_time"] < 0.6
+    # The fresh directory runs the last segment of each run, not the first two.
+    assert run_jobs(study["clone_dry"]) == {"run": 2}
+    for run in RUNS:
+        plain, continued = series(study["base"] / "plain" / run), series(
+            study["base"] / "clone" / run)
+        assert plain.keys() == continued.keys()
+        for name in plain:
+            np.testing.assert_array_equal(plain[name], continued[name], err_msg=name)
+    plain_fig = (study["base"] / "plain" / FIGURE).read_text()
+    assert (study["base"] / "clone" / FIGURE).read_text() == plain_fig
+
+
+def test_a_fresh_directory_restores_every_run_and_the_same_figure_data(study):
+    assert run_jobs(study["restored_dry"]) == {}
+    assert "2 run(s) restored whole" in study["restored_dry"]
+    assert ((study["base"] / "restored" / FIGURE).read_text()
+            == (study["base"] / "plain" / FIGURE).read_text())
+
+
+def test_a_record_replays_its_last_segment_to_the_last_bit(study):
+    record_dir = study["store"] / "initial" / RUNS[0].split("/")[-1]
+    record = archive.read_record(record_dir)
+    assert record["finished"] and record["state_time"] < record["t_reached"]
+    rows, difference = archive.replay(record_dir, CAPSIM)
+    assert rows >= 2 and difference == 0.0
+
+
+@pytest.mark.parametrize("damage", ["series", "record", "format"])
+def test_a_damaged_record_is_refused_naming_it(study, tmp_path, damage):
+    store = tmp_path / "archive"
+    shutil.copytree(study["store"], store)
+    record_dir = store / "initial" / RUNS[1].split("/")[-1]
+    if damage == "series":
+        data = bytearray((record_dir / "timeseries.h5").read_bytes())
+        data[len(data) // 2] ^= 1
+        (record_dir / "timeseries.h5").write_bytes(bytes(data))
+    else:
+        record = json.loads((record_dir / "record.json").read_text())
+        if damage == "record":
+            record["t_end"] = 0.5
+        else:
+            record["format"] = 99
+        (record_dir / "record.json").write_text(json.dumps(record))
+    with pytest.raises(archive.ArchiveError, match=str(record_dir)):
+        archive.read_record(record_dir)
+    dry = snakemake(tmp_path / "work", {**study["config"], "archive": str(store)}, FIGURE,
+                    dry=True)
+    assert dry.returncode != 0 and f"{record_dir}: " in dry.stdout + dry.stderr
