@@ -4,8 +4,11 @@ tiny study (the initial-position study: two seeds, M 2, level 1) in temporary fo
 - a run stopped after two of its three segments and archived is continued in a fresh
   working directory from the archive alone (the new clone of a repository that holds
   the archive), which runs only the missing segments; its time series equal those of the
-  same study run unsegmented and without an archive, to the last bit, and so do the
-  figure data;
+  same study run unsegmented and without an archive: to the last bit from the archived
+  state on, and before it to the single precision that the archive keeps them in; the
+  figure data agree to 1e-6 (the quantities are of order 0.01-10, which single precision
+  rounds by about 1e-7 of themselves; a mean or a standard deviation of them moves by no
+  more than that, and a standard deviation over two nearly equal seeds is where it shows);
 - a third fresh working directory restores every run (its dry run lists no run job) and
   regenerates the same figure data;
 - replaying the last segment from a record's state gives its archived rows to the last
@@ -21,6 +24,7 @@ import subprocess
 
 import h5py
 import numpy as np
+import pandas as pd
 import pytest
 import yaml
 
@@ -71,6 +75,11 @@ def series(run_dir):
     return out
 
 
+def assert_same_figure_data(workdir, reference):
+    got, want = (pd.read_csv(w / FIGURE) for w in (workdir, reference))
+    pd.testing.assert_frame_equal(got, want, check_exact=False, rtol=1e-6, atol=1e-6)
+
+
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     """Runs the study three ways; returns their folders and the archive."""
@@ -101,21 +110,24 @@ def test_a_stopped_segmented_run_continues_from_the_archive_to_the_same_bits(stu
         assert not record["finished"] and 0.4 <= record["state_time"] < 0.6
     # The fresh directory runs the last segment of each run, not the first two.
     assert run_jobs(study["clone_dry"]) == {"run": 2}
-    for run in RUNS:
+    for run, record in zip(RUNS, study["partial"]):
         plain, continued = series(study["base"] / "plain" / run), series(
             study["base"] / "clone" / run)
         assert plain.keys() == continued.keys()
+        after = plain["time"] > record["state_time"]
+        assert 2 <= after.sum() < len(after)
         for name in plain:
-            np.testing.assert_array_equal(plain[name], continued[name], err_msg=name)
-    plain_fig = (study["base"] / "plain" / FIGURE).read_text()
-    assert (study["base"] / "clone" / FIGURE).read_text() == plain_fig
+            np.testing.assert_array_equal(plain[name][after], continued[name][after],
+                                          err_msg=name)
+            np.testing.assert_array_equal(plain[name].astype(np.float32),
+                                          continued[name].astype(np.float32), err_msg=name)
+    assert_same_figure_data(study["base"] / "clone", study["base"] / "plain")
 
 
 def test_a_fresh_directory_restores_every_run_and_the_same_figure_data(study):
     assert run_jobs(study["restored_dry"]) == {}
     assert "2 run(s) restored whole" in study["restored_dry"]
-    assert ((study["base"] / "restored" / FIGURE).read_text()
-            == (study["base"] / "plain" / FIGURE).read_text())
+    assert_same_figure_data(study["base"] / "restored", study["base"] / "plain")
 
 
 def test_a_record_replays_its_last_segment_to_the_last_bit(study):
