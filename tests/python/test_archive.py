@@ -159,3 +159,23 @@ def test_a_damaged_record_is_refused_naming_it(study, tmp_path, damage):
     dry = snakemake(tmp_path / "work", {**study["config"], "archive": str(store)}, FIGURE,
                     dry=True)
     assert dry.returncode != 0 and f"{record_dir}: " in dry.stdout + dry.stderr
+
+
+def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
+    """Every record of archive/quantitative is sound, of this physics version and of the
+    configuration's options: a fresh directory restores each finished run (no run job for
+    it) and continues each unfinished one."""
+    store = ROOT / "archive" / "quantitative"
+    records = [archive.read_record(path) for path in archive._records([store])] \
+        if store.exists() else []
+    if not records:
+        pytest.skip("archive/quantitative holds no record yet")
+    exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
+    dry = subprocess.run([exe, "--snakefile", str(ROOT / "Snakefile"), "--directory",
+                          str(tmp_path), "-n", "all", "check", "--configfile",
+                          str(ROOT / "config" / "quantitative.yaml")],
+                         capture_output=True, text=True, timeout=600)
+    assert dry.returncode == 0, dry.stdout[-3000:] + dry.stderr[-3000:]
+    assert "stale" not in dry.stderr and "other options" not in dry.stderr
+    finished = sum(r["finished"] for r in records)
+    assert run_jobs(dry.stdout).get("run", 0) == 45 + 21 - finished

@@ -91,6 +91,8 @@ rule run:
 
 rule run_table:
     """Averages (from config averages.t_start) of a list of runs, one CSV row per run."""
+    wildcard_constraints:
+        study="|".join(SUSPENSION_STUDIES),
     output:
         "results/{study}/table.csv",
     input:
