@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Speed benchmarks (never part of the tests). Writes JSON, Markdown tables and plots to
 # results/benchmarks/. Run on an otherwise idle machine, after scripts/setup.sh.
-#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|scaling|step|all]
+#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|scaling|step|profile|all]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 mkdir -p results/benchmarks
@@ -28,5 +28,8 @@ fi
 if run step; then # seconds per RK2 step of a run, with and without patches
   $py benchmarks/ewald_report.py step --capsules 27 --mesh-level 3
   $py benchmarks/ewald_report.py step --capsules 100 --mesh-level 3
+fi
+if run profile; then # every stage of a step in situ, levels 3 and 4, against its bound
+  $py benchmarks/step_profile.py --out results/benchmarks/step_profile.json
 fi
 echo "benchmarks: results in results/benchmarks/"

@@ -36,6 +36,7 @@ struct RunArgs {
   std::vector<std::string> sets;
   bool quiet = false;
   double pause_at = 0;
+  std::string profile;
 };
 
 void add_run_command(CLI::App& app, RunArgs& a) {
@@ -60,6 +61,11 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "run to the last bit as if it had not stopped")
       ->check(finite_number())
       ->type_name("T");
+  run->add_option("--profile", a.profile,
+                  "write the wall seconds of every stage of the steps (membrane load, "
+                  "near corrections, real space, spreading, FFT, gathering, volume "
+                  "constraint, sampling, checkpoints, ...) to this JSON file")
+      ->type_name("FILE");
 }
 
 struct GreensArgs {
@@ -247,7 +253,12 @@ int run_command(const RunArgs& a) {
     request.outdir = a.outdir;
   }
   request.pause_at = a.pause_at;
+  capsim::RunProfile profile;
+  if (!a.profile.empty())
+    request.profile = &profile;
   const bool finished = capsim::run_simulation(request);
+  if (!a.profile.empty())
+    capsim::write_run_profile(a.profile, profile);
   if (!a.quiet && finished)
     std::fprintf(stderr, "capsim: done, see %s/summary.json\n", request.outdir.c_str());
   else if (!a.quiet)

@@ -35,6 +35,7 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup) : Flow(setup) {
 DeviceFlow::~DeviceFlow() = default;
 
 void DeviceFlow::traction(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
-void DeviceFlow::velocity(const std::vector<Vec3>&, double, std::vector<Vec3>&) const {}
+void DeviceFlow::evaluate_velocity(const std::vector<Vec3>&, double,
+                                   std::vector<Vec3>&) const {}
 
 } // namespace capsim

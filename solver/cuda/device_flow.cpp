@@ -187,8 +187,8 @@ void DeviceFlow::traction(const std::vector<Vec3>& x, double,
   impl_->q.download(q);
 }
 
-void DeviceFlow::velocity(const std::vector<Vec3>& x, double t,
-                          std::vector<Vec3>& u) const {
+void DeviceFlow::evaluate_velocity(const std::vector<Vec3>& x, double t,
+                                   std::vector<Vec3>& u) const {
   impl_->x.upload(x);
   impl_->compute_velocity(impl_->x.data(), t, impl_->u0.data());
   impl_->u0.download(u);

@@ -37,8 +37,10 @@ public:
   // The nodal traction q (lumped) at positions x.
   void traction(const std::vector<Vec3>& x, double t,
                 std::vector<Vec3>& q) const override;
-  void velocity(const std::vector<Vec3>& x, double t,
-                std::vector<Vec3>& u) const override;
+
+protected:
+  void evaluate_velocity(const std::vector<Vec3>& x, double t,
+                         std::vector<Vec3>& u) const override;
 
 private:
   struct Impl;

@@ -15,8 +15,10 @@ public:
   Backend backend() const override { return Backend::cpu; }
   void traction(const std::vector<Vec3>& x, double t,
                 std::vector<Vec3>& q) const override;
-  void velocity(const std::vector<Vec3>& x, double t,
-                std::vector<Vec3>& u) const override;
+
+protected:
+  void evaluate_velocity(const std::vector<Vec3>& x, double t,
+                         std::vector<Vec3>& u) const override;
 
 private:
   std::unique_ptr<SpectralEwald> spectral_; // FFT plans and grids, made once

@@ -4,6 +4,7 @@
 #include "dynamics/time_stepping.hpp"
 
 #include <algorithm>
+#include <omp.h>
 #include <sstream>
 #include <stdexcept>
 
@@ -61,10 +62,22 @@ double heun_error(const std::vector<Vec3>& u0, const std::vector<Vec3>& u1, doub
 
 } // namespace
 
+void Flow::velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const {
+  const double t0 = omp_get_wtime();
+  evaluate_velocity(x, t, u);
+  if (profile_) {
+    ++profile_->evaluations;
+    profile_->velocity += omp_get_wtime() - t0;
+  }
+}
+
 void Flow::volume_preserving_velocity(const std::vector<Vec3>& x, double t,
                                       std::vector<Vec3>& u) const {
   velocity(x, t, u);
+  const double t1 = omp_get_wtime();
   remove_volume_rate(membrane().topology(), num_capsules(), x, u);
+  if (profile_)
+    profile_->volume_rate += omp_get_wtime() - t1;
 }
 
 double Flow::heun_step(std::vector<Vec3>& x, double t, double dt, ErrorNorm n) const {

@@ -9,6 +9,7 @@
 #include "dynamics/step_error.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/ewald_setup.hpp"
+#include "stokes/periodic_single_layer.hpp"
 #include "stokes/single_layer.hpp"
 
 #include <climits>
@@ -54,6 +55,18 @@ struct FlowCapabilities {
 std::string unsupported_by(const FlowSetup& setup, const FlowCapabilities& caps,
                            Backend backend);
 
+// Wall seconds in the stages of the flow's evaluations, accumulated while a profile is
+// attached (`capsim run --profile`): what one step costs where, in situ. The CPU backend
+// fills every field; another backend only the totals.
+struct FlowProfile {
+  long evaluations = 0;
+  double velocity = 0;      // all of velocity()
+  double traction = 0;      // membrane load (and repulsion), of velocity()
+  double unbounded = 0;     // the free-space single layer (one capsule, phi = 0)
+  PeriodicTimings periodic; // the Ewald stages: set-up, near, real space, reciprocal
+  double volume_rate = 0;   // removing each capsule's volume rate from u
+};
+
 class Flow {
 public:
   explicit Flow(const FlowSetup& setup) : setup_(setup) {}
@@ -68,9 +81,9 @@ public:
   virtual void traction(const std::vector<Vec3>& x, double t,
                         std::vector<Vec3>& q) const = 0;
 
-  // Node velocities u at positions x and time t (the time sets the lattice strain).
-  virtual void velocity(const std::vector<Vec3>& x, double t,
-                        std::vector<Vec3>& u) const = 0;
+  // Node velocities u at positions x and time t (the time sets the lattice strain):
+  // evaluate_velocity() of the backend, counted and timed into an attached profile.
+  void velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const;
 
   // The velocity the time schemes integrate: u with each capsule's volume rate removed
   // (remove_volume_rate, dynamics/time_stepping.hpp).
@@ -93,6 +106,9 @@ public:
   std::vector<int> add_repulsion(const std::vector<Vec3>& x, double t,
                                  std::vector<Vec3>& grad) const;
 
+  // Accumulates the stages of every later evaluation into *p (nullptr: none).
+  void attach_profile(FlowProfile* p) { profile_ = p; }
+
   const FlowSetup& setup() const { return setup_; }
   const Membrane& membrane() const { return setup_.membrane; }
   int num_capsules() const { return setup_.num_capsules; }
@@ -102,7 +118,11 @@ public:
   }
 
 protected:
+  virtual void evaluate_velocity(const std::vector<Vec3>& x, double t,
+                                 std::vector<Vec3>& u) const = 0;
+
   FlowSetup setup_;
+  FlowProfile* profile_ = nullptr;
 };
 
 } // namespace capsim

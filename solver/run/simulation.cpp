@@ -69,6 +69,22 @@ FlowSetup flow_setup(const RunOptions& o, const Membrane& membrane,
   return s;
 }
 
+// Adds the wall seconds of its scope to *into; does nothing when into is null.
+class ScopeTimer {
+public:
+  explicit ScopeTimer(double* into) : into_(into), start_(into ? omp_get_wtime() : 0) {}
+  ~ScopeTimer() {
+    if (into_)
+      *into_ += omp_get_wtime() - start_;
+  }
+  ScopeTimer(const ScopeTimer&) = delete;
+  ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+private:
+  double* into_;
+  double start_;
+};
+
 long steps_for(double interval, double dt) {
   return interval > 0 ? std::max(1L, std::lround(interval / dt)) : 0;
 }
@@ -92,9 +108,10 @@ void prepare_fresh_outdir(const std::string& dir) {
 
 class RunLoop {
 public:
-  RunLoop(const RunOptions& o, std::string dir, bool quiet, double pause_at)
+  RunLoop(const RunOptions& o, std::string dir, bool quiet, double pause_at,
+          RunProfile* profile)
       : o_(o), dir_(std::move(dir)), quiet_(quiet), pause_at_(pause_at),
-        mesh_(make_icosphere(o.mesh_level)),
+        profile_(profile), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
                   o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
@@ -112,6 +129,8 @@ public:
     snapshot_every_ = steps_for(o.output.snapshot_interval, unit);
     v0_.assign(o.capsules, enclosed_volume(mesh_.topology, mesh_.positions.data()));
     drift_.assign(o.capsules, 0.0);
+    if (profile_)
+      flow_->attach_profile(&profile_->flow);
   }
 
   void start_fresh();
@@ -148,6 +167,11 @@ private:
   bool quiet_;
   double pause_at_;     // RunRequest::pause_at
   bool paused_ = false; // stopped at pause_at_, after a regular checkpoint
+  RunProfile* profile_; // RunRequest::profile (null: none)
+  // The profile's accumulator of one stage, or null without a profile (ScopeTimer).
+  double* stage(double RunProfile::*field) const {
+    return profile_ ? &(profile_->*field) : nullptr;
+  }
   Icosphere mesh_;
   Membrane membrane_;
   double h_; // mean edge of the undeformed mesh: sets dt
@@ -260,6 +284,7 @@ void RunLoop::run() {
   const auto begin = Clock::now();
   const long first = step_;
   first_time_ = time();
+  ScopeTimer loop(stage(&RunProfile::loop));
   try {
     step_until_end(begin, first);
   } catch (const SimulationError&) {
@@ -272,7 +297,10 @@ void RunLoop::step_until_end(Clock::time_point begin, long first) {
   if (adaptive())
     return step_adaptively(begin, first);
   while (step_ < n_steps_ && !paused_) {
-    stepper_->step(x_, time(), dt_);
+    {
+      ScopeTimer timer(stage(&RunProfile::stepping));
+      stepper_->step(x_, time(), dt_);
+    }
     ++step_;
     finish_step();
     const bool last = step_ == n_steps_;
@@ -303,7 +331,11 @@ void RunLoop::step_adaptively(Clock::time_point begin, long first) {
 bool RunLoop::try_step(double target) {
   const double h = std::min(dt_, target - t_);
   std::vector<Vec3> x = x_;
-  const double error = stepper_->step(x, t_, h);
+  double error;
+  {
+    ScopeTimer timer(stage(&RunProfile::stepping));
+    error = stepper_->step(x, t_, h);
+  }
   const double proposal = control_.next(h, error);
   if (!control_.accept(error)) {
     ++rejected_;
@@ -325,23 +357,38 @@ bool RunLoop::try_step(double target) {
 
 // The volume constraint, the checks, and the Lees-Edwards remapping after a step.
 void RunLoop::finish_step() {
-  std::vector<double> d = enforce_volume(mesh_.topology, o_.capsules, x_, v0_);
-  for (int c = 0; c < o_.capsules; ++c)
-    if (std::abs(d[c]) > std::abs(drift_[c]))
-      drift_[c] = d[c];
-  check_state(membrane_, o_.capsules, x_, time());
+  if (profile_)
+    ++profile_->steps;
+  {
+    ScopeTimer timer(stage(&RunProfile::volume_constraint));
+    std::vector<double> d = enforce_volume(mesh_.topology, o_.capsules, x_, v0_);
+    for (int c = 0; c < o_.capsules; ++c)
+      if (std::abs(d[c]) > std::abs(drift_[c]))
+        drift_[c] = d[c];
+  }
+  {
+    ScopeTimer timer(stage(&RunProfile::state_checks));
+    check_state(membrane_, o_.capsules, x_, time());
+  }
+  ScopeTimer timer(stage(&RunProfile::box_and_contact));
   if (flow_->periodic())
     keep_in_box();
 }
 
 // After step (fixed) or sample (adaptive) number `index`.
 void RunLoop::write_outputs(long index, bool sample, bool last) {
-  if (sample)
+  if (sample) {
+    ScopeTimer timer(stage(&RunProfile::sampling));
     take_sample();
-  if (sample && snapshot_every_ > 0 && index % snapshot_every_ == 0)
+  }
+  if (sample && snapshot_every_ > 0 && index % snapshot_every_ == 0) {
+    ScopeTimer timer(stage(&RunProfile::snapshots));
     save_snapshot();
-  if ((sample && index % checkpoint_every_ == 0) || last)
+  }
+  if ((sample && index % checkpoint_every_ == 0) || last) {
+    ScopeTimer timer(stage(&RunProfile::checkpoints));
     save_checkpoint();
+  }
   // Only at a regular checkpoint: the unbroken run writes the same one, so a resumed
   // segment continues it to the last bit (a checkpoint forced at `last` would add a row).
   if (!last && pause_at_ > 0 && checkpoint_time_ == time() && time() >= pause_at_)
@@ -562,7 +609,7 @@ bool run_simulation(const RunRequest& request) {
     omp_set_num_threads(o.threads);
   // Built first: a backend that cannot run the options stops the run before anything
   // is written.
-  RunLoop loop(o, request.outdir, request.quiet, request.pause_at);
+  RunLoop loop(o, request.outdir, request.quiet, request.pause_at, request.profile);
   if (request.resume)
     loop.check_series(checkpoint);
   else

@@ -3,6 +3,7 @@
 // checkpoints and snapshots, and finally summary.json. Orchestration only: the physics is
 // in mesh/, membrane/, stokes/, dynamics/ and diagnostics/.
 #include "config/run_options.hpp"
+#include "run/run_profile.hpp"
 
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ struct RunRequest {
   // segment of a longer run): no summary.json, and --resume continues exactly as if the
   // run had never stopped, since the pause falls where the unbroken run checkpoints too.
   double pause_at = 0;
+  RunProfile* profile = nullptr; // accumulates where the time goes (run/run_profile.hpp)
 };
 
 // Runs to t_end (or to the pause) and writes OUTDIR/summary.json (not when paused).

@@ -1,7 +1,9 @@
 """A real (tiny) capsim run read back through analysis/: the Python averages agree with
 summary.json, and every dataset that snapshots.xdmf names exists with its stated shape."""
 
+import json
 import math
+import subprocess
 import xml.etree.ElementTree as ET
 
 import h5py
@@ -9,6 +11,7 @@ import pytest
 
 from analysis.read_run import read_summary, read_timeseries, time_average
 from analysis.rheology import stress_factor
+from conftest import CAPSIM
 
 
 @pytest.fixture(scope="module")
@@ -38,3 +41,26 @@ def test_xdmf_names_existing_datasets(run_dir):
         dims = tuple(int(d) for d in item.get("Dimensions").split())
         with h5py.File(run_dir / file_name, "r") as f:
             assert f[dataset].shape == dims
+
+
+def test_the_profile_accounts_for_the_steps(tmp_path):
+    """capsim run --profile: the stages nest (the evaluations within the stepping within
+    the loop; the Ewald stages and the membrane load within the evaluations), two
+    evaluations per Heun step (no snapshots, whose velocity field is one more), and
+    every stage that ran has a positive time."""
+    out, profile = tmp_path / "run", tmp_path / "profile.json"
+    subprocess.run([str(CAPSIM), "run", "-q", "--set", "ca=0.3", "--set", "phi=0.2",
+                    "--set", "capsules=2", "--set", "mesh_level=1", "--set", "t_end=0.5",
+                    "--set", "t_avg_start=0.1", "--set", "threads=1",
+                    "--set", "output.snapshot_interval=0", "-o", str(out),
+                    "--profile", str(profile)], check=True)
+    p = json.loads(profile.read_text())
+    s = p["seconds"]
+    assert p["steps"] == json.loads((out / "summary.json").read_text())["steps"]
+    assert p["evaluations"] == 2 * p["steps"] and p["real_space_pairs_per_evaluation"] > 0
+    parts = ["membrane_load", "ewald_setup", "near_corrections", "real_space", "reciprocal",
+             "volume_rate"]
+    assert all(s[k] > 0 for k in parts + ["spreading", "fft", "gathering", "sampling"])
+    assert sum(s[k] for k in parts) <= s["evaluations"] <= s["stepping"] <= s["loop"]
+    assert s["spreading"] + s["fft"] + s["gathering"] <= s["reciprocal"]
+    assert s["unbounded_single_layer"] == 0
