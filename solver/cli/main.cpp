@@ -195,6 +195,10 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
                 "method patches: icosphere level of the patches (1: P = 80)")
       ->capture_default_str()
       ->check(whole_number());
+  b->add_option("--precision", a.o.precision,
+                "method spectral: its grids and FFTs in double, single or auto precision "
+                "(as ewald.precision)")
+      ->check(CLI::IsMember({"double", "single", "auto"}));
   b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")
       ->capture_default_str()
       ->check(finite_number());

@@ -320,6 +320,12 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> int& { return o.ewald.patch_level; },
           "method patches: the patches are the faces of this icosphere level (0, 1, 2, "
           "3: P = 20, 80, 320, 1280 per capsule); at most mesh_level"),
+      choice(
+          "ewald.precision", {"double", "single", "auto"},
+          [](RunOptions& o) -> std::string& { return o.ewald.precision; },
+          "method spectral: the precision of its grids and FFTs; auto = single where "
+          "ewald.tolerance >= 1e-5 (its rounding, about 3e-7 of the velocities, is then "
+          "at most a thirtieth of the tolerance), double below"),
       real(
           "suspension.min_gap", {0, 2, false, false},
           [](RunOptions& o) -> double& { return o.suspension.min_gap; },

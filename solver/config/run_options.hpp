@@ -27,6 +27,7 @@ struct EwaldOptions {
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; 0 = automatic ("auto", cost-balanced)
   int patch_level = 1;     // method patches: patches = faces of this icosphere level
+  std::string precision = "double"; // method spectral: its grids (double, single, auto)
 };
 
 struct TimeOptions {

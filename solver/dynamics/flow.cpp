@@ -45,6 +45,11 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
     m << "ewald.tolerance: the Spectral-Ewald support of " << s.box.grid.support
       << " points exceeds " << caps.max_spread_support << with
       << ": raise ewald.tolerance";
+  else if (s.box.L > 0 && s.box.method == EwaldMethod::spectral && s.box.grid.single &&
+           !caps.single_grids)
+    m << "ewald.precision: must be double" << with
+      << " (its grids and FFTs are double precision), got single (set, or auto at "
+         "ewald.tolerance >= 1e-5)";
   return m.str();
 }
 

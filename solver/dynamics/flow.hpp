@@ -48,6 +48,7 @@ struct FlowCapabilities {
   bool direct_sums = true;            // methods direct and patches
   double max_cut_fraction = INFINITY; // r_cut must stay below this fraction of L
   int max_spread_support = INT_MAX;   // Spectral-Ewald support P at most this
+  bool single_grids = true;           // ewald.precision single (grids and FFTs)
 };
 
 // "" when `caps` cover `setup`, else one line naming the run key to change and why

@@ -145,10 +145,14 @@ std::string run_benchmark(const BenchOptions& o) {
   const long nodes = long(c.x.size());
   const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
   PeriodicBox box;
+  EwaldRequest request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
   try {
-    box = make_periodic_box(
-        c.L, {parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level}, nodes,
-        points);
+    request.precision = parse_grid_precision(o.precision);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(std::string("--precision: ") + e.what());
+  }
+  try {
+    box = make_periodic_box(c.L, request, nodes, points);
   } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
     throw ConfigError(std::string("--xi: ") + e.what());
   }
@@ -190,6 +194,7 @@ std::string run_benchmark(const BenchOptions& o) {
   if (box.method == EwaldMethod::spectral) {
     j.field("grid", std::vector<double>(box.grid.grid, box.grid.grid + 3));
     j.field("support", box.grid.support);
+    j.field("precision", box.grid.single ? "single" : "double");
   }
   j.field("repeats", o.repeats);
   j.field("seconds_per_eval", per_eval);

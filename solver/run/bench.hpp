@@ -16,7 +16,8 @@ struct BenchOptions {
   double tolerance = 1e-4;
   double strain = 0.0;
   int seed = 1;
-  double xi = 0;              // 0: the automatic choice of `capsim run`
+  double xi = 0;                    // 0: the automatic choice of `capsim run`
+  std::string precision = "double"; // spectral grids: double, single or auto
   int repeats = 3;            // timed evaluations (spectral: after an untimed warm-up)
   std::string reference_file; // cache of the reference velocities ("" = none)
   bool reference = true;      // false: no reference, no rel_error

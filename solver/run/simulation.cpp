@@ -49,6 +49,7 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   r.tolerance = o.ewald.tolerance;
   r.xi = o.ewald.xi;
   r.patch_level = o.ewald.patch_level;
+  r.precision = parse_grid_precision(o.ewald.precision);
   r.max_cut_fraction = capabilities_of(parse_backend(o.backend)).max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());

@@ -82,9 +82,24 @@ PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
   box.ewald = choose_ewald_parameters(L, tolerance, xi);
   if (request.xi > 0)
     check_given_xi(L, xi, box.ewald);
-  if (request.method == EwaldMethod::spectral)
+  if (request.method == EwaldMethod::spectral) {
     box.grid = choose_spectral_parameters(L, box.ewald, tolerance);
+    box.grid.single = request.precision == GridPrecision::single_precision ||
+                      (request.precision == GridPrecision::automatic &&
+                       tolerance >= kSingleGridTolerance);
+  }
   return box;
+}
+
+GridPrecision parse_grid_precision(const std::string& name) {
+  if (name == "double")
+    return GridPrecision::double_precision;
+  if (name == "single")
+    return GridPrecision::single_precision;
+  if (name == "auto")
+    return GridPrecision::automatic;
+  throw std::invalid_argument("must be one of {double, single, auto}, got '" + name +
+                              "'");
 }
 
 ReciprocalSum reciprocal_sum(const PeriodicBox& box, SpectralEwald* spectral) {

@@ -29,12 +29,24 @@ struct PeriodicBox {
   int patch_level = 1;     // method patches: patches are the faces of this level
 };
 
+// The precision of the Spectral-Ewald grids and FFTs: double, single, or automatic
+// (single where the tolerance is at least kSingleGridTolerance).
+enum class GridPrecision { double_precision, single_precision, automatic };
+
+GridPrecision parse_grid_precision(const std::string& name); // throws invalid_argument
+
+// Single precision rounds the velocities by about 3e-7 of themselves (rms; measured:
+// docs/performance.md, "Single-precision grids"); from this tolerance on that is at most
+// a thirtieth of the requested error.
+constexpr double kSingleGridTolerance = 1e-5;
+
 // What a run asks of the periodic sums.
 struct EwaldRequest {
   EwaldMethod method = EwaldMethod::spectral;
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; <= 0: automatic
   int patch_level = 1;     // method patches
+  GridPrecision precision = GridPrecision::double_precision; // method spectral
   // The automatic xi keeps r_cut below this fraction of L (a backend's limit).
   double max_cut_fraction = INFINITY;
 };

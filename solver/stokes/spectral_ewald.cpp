@@ -35,56 +35,84 @@ int fft_friendly_size(int n) {
 // column weights times the force are formed once (3 P values); when the column does not
 // wrap around the grid, every stencil row is one contiguous run of 3 P grid values, a
 // loop the compiler vectorises (wrapping columns, a few per cent, take the indexed path).
-CAPSIM_VECTOR_CLONES void spread_sources(const SpreadGrid& sg, const ShearedLattice& g,
-                                         const FarSources& src,
-                                         const std::vector<int>& members, double* grid) {
+// T: the grid's precision (float where the tolerance allows: SpectralParameters).
+template <class T>
+inline void spread_sources_into(const SpreadGrid& sg, const ShearedLattice& g,
+                                const FarSources& src, const std::vector<int>& members,
+                                T* grid) {
   const int P = sg.support;
-  double wf[3 * kMaxSpreadSupport];
+  T wf[3 * kMaxSpreadSupport];
   for (int k : members) {
     const Vec3 y{src.y[0][k], src.y[1][k], src.y[2][k]};
     const SpreadColumn c = spread_column(sg, y);
     for (int b = 0; b < P; ++b)
       for (int a = 0; a < 3; ++a)
-        wf[3 * b + a] = c.weight[b] * src.f[a][k];
+        wf[3 * b + a] = T(c.weight[b] * src.f[a][k]);
     if (c.contiguous)
       for_each_spread_row(sg, g, y, [&](size_t base, double w) {
-        double* row = grid + 3 * (base + c.index[0]);
+        T* row = grid + 3 * (base + c.index[0]);
+        const T wt = T(w);
         for (int j = 0; j < 3 * P; ++j)
-          row[j] += w * wf[j];
+          row[j] += wt * wf[j];
       });
     else
       for_each_spread_row(sg, g, y, [&](size_t base, double w) {
         for (int b = 0; b < P; ++b)
           for (int a = 0; a < 3; ++a)
-            grid[3 * (base + c.index[b]) + a] += w * wf[3 * b + a];
+            grid[3 * (base + c.index[b]) + a] += T(w) * wf[3 * b + a];
       });
   }
+}
+
+CAPSIM_VECTOR_CLONES void spread_sources(const SpreadGrid& sg, const ShearedLattice& g,
+                                         const FarSources& src,
+                                         const std::vector<int>& members, double* grid) {
+  spread_sources_into(sg, g, src, members, grid);
+}
+
+CAPSIM_VECTOR_CLONES void spread_sources(const SpreadGrid& sg, const ShearedLattice& g,
+                                         const FarSources& src,
+                                         const std::vector<int>& members, float* grid) {
+  spread_sources_into(sg, g, src, members, grid);
 }
 
 // The gathered grid velocity at x: sum over the stencil of g(z_j - x) grid[j], with the
 // rows summed as contiguous runs (as in spread_sources) and the column weights applied
 // once at the end.
-CAPSIM_VECTOR_CLONES Vec3 gather_point(const SpreadGrid& sg, const ShearedLattice& g,
-                                       const double* grid, Vec3 x) {
+template <class T>
+inline Vec3 gather_point_from(const SpreadGrid& sg, const ShearedLattice& g,
+                              const T* grid, Vec3 x) {
   const int P = sg.support;
   const SpreadColumn c = spread_column(sg, x);
-  double acc[3 * kMaxSpreadSupport] = {};
+  T acc[3 * kMaxSpreadSupport] = {};
   if (c.contiguous)
     for_each_spread_row(sg, g, x, [&](size_t base, double w) {
-      const double* row = grid + 3 * (base + c.index[0]);
+      const T* row = grid + 3 * (base + c.index[0]);
+      const T wt = T(w);
       for (int j = 0; j < 3 * P; ++j)
-        acc[j] += w * row[j];
+        acc[j] += wt * row[j];
     });
   else
     for_each_spread_row(sg, g, x, [&](size_t base, double w) {
       for (int b = 0; b < P; ++b)
         for (int a = 0; a < 3; ++a)
-          acc[3 * b + a] += w * grid[3 * (base + c.index[b]) + a];
+          acc[3 * b + a] += T(w) * grid[3 * (base + c.index[b]) + a];
     });
   Vec3 sum;
   for (int b = 0; b < P; ++b)
-    sum += c.weight[b] * Vec3{acc[3 * b], acc[3 * b + 1], acc[3 * b + 2]};
+    sum += c.weight[b] *
+           Vec3{double(acc[3 * b]), double(acc[3 * b + 1]), double(acc[3 * b + 2])};
   return sum;
+}
+
+CAPSIM_VECTOR_CLONES Vec3 gather_point(const SpreadGrid& sg, const ShearedLattice& g,
+                                       const double* grid, Vec3 x) {
+  return gather_point_from(sg, g, grid, x);
+}
+
+CAPSIM_VECTOR_CLONES Vec3 gather_point(const SpreadGrid& sg, const ShearedLattice& g,
+                                       const float* grid, Vec3 x) {
+  return gather_point_from(sg, g, grid, x);
 }
 
 } // namespace
@@ -141,14 +169,24 @@ struct SpectralEwald::Impl {
   SpectralParameters p;
   size_t n_real, n_complex;
   // The three force components interleaved (grid[3 j + a]): a stencil row is one run of
-  // memory for all of them. Transformed together by one strided FFTW plan each way.
-  double* grid;
-  fftw_complex* spectrum;
-  fftw_plan forward, backward;
+  // memory for all of them. Transformed together by one strided FFTW plan each way, in
+  // double precision, or in single (p.single: FFTW's fftwf_ interface) where the
+  // tolerance leaves room for its rounding.
+  double* grid = nullptr;
+  fftw_complex* spectrum = nullptr;
+  fftw_plan forward = nullptr, backward = nullptr;
+  float* grid_f = nullptr;
+  fftwf_complex* spectrum_f = nullptr;
+  fftwf_plan forward_f = nullptr, backward_f = nullptr;
 
   SpreadGrid spread_grid; // the Gaussian and its stencils (spectral_weights.hpp)
-  void scale_spectrum(const ShearedLattice& g);
-  void spread(const ShearedLattice& g, const FarSources& src) const;
+  template <class Complex>
+  void scale_spectrum(const ShearedLattice& g, Complex* spectrum);
+  template <class T>
+  void spread(const ShearedLattice& g, const FarSources& src, T* grid) const;
+  template <class T>
+  void gather(const ShearedLattice& g, const T* grid, const std::vector<Vec3>& targets,
+              std::vector<Vec3>& u) const;
 };
 
 // Spreads the sources to the grid in parallel without races: the sources are binned into
@@ -156,7 +194,9 @@ struct SpectralEwald::Impl {
 // source's stencil touches only its own slab and the next; even slabs are spread
 // concurrently, then odd ones. Each grid value receives its terms in the same order
 // whatever the number of threads.
-void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src) const {
+template <class T>
+void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src,
+                                 T* grid) const {
   const int m = p.grid[2], half = p.support / 2;
   int slabs = m / p.support;
   slabs -= slabs % 2; // an even count: the last slab's neighbour, slab 0, is even
@@ -183,7 +223,8 @@ void SpectralEwald::Impl::spread(const ShearedLattice& g, const FarSources& src)
 
 // Multiplies the transformed grid by (8 pi / V)(V / (M_x M_y M_z)) J^EII-type kernel with
 // the remaining Gaussian (spectral_weights.hpp).
-void SpectralEwald::Impl::scale_spectrum(const ShearedLattice& g) {
+template <class Complex>
+void SpectralEwald::Impl::scale_spectrum(const ShearedLattice& g, Complex* spectrum) {
   const SpreadGrid& s = spread_grid;
   const int m1 = s.m[1], mh = s.m[2] / 2 + 1;
   const double c = 8.0 * kPi / double(grid_points(s));
@@ -192,7 +233,7 @@ void SpectralEwald::Impl::scale_spectrum(const ShearedLattice& g) {
     for (int i1 = 0; i1 < m1; ++i1)
       for (int i2 = 0; i2 < mh; ++i2) {
         const size_t k_index = (size_t(i0) * m1 + i1) * mh + i2;
-        fftw_complex* sk = spectrum + 3 * k_index;
+        Complex* sk = spectrum + 3 * k_index;
         double re[3] = {sk[0][0], sk[1][0], sk[2][0]};
         double im[3] = {sk[0][1], sk[1][1], sk[2][1]};
         scale_spectral_mode(g, s, i0, i1, i2, xi, c, re, im);
@@ -213,13 +254,25 @@ SpectralEwald::SpectralEwald(double L, const EwaldParameters& ewald,
   s.spread_grid = make_spread_grid(L, p.grid, p.support, s.xi, p.eta);
   s.n_real = grid_points(s.spread_grid);
   s.n_complex = spectrum_modes(s.spread_grid);
-  s.grid = fftw_alloc_real(3 * s.n_real);
-  s.spectrum = fftw_alloc_complex(3 * s.n_complex);
   // Planned once (FFTW_ESTIMATE leaves the arrays untouched) for the threads of the run.
+  const int* dims = p.grid;
+  if (p.single) {
+    static const bool threads_ready = fftwf_init_threads() != 0;
+    if (threads_ready)
+      fftwf_plan_with_nthreads(omp_get_max_threads());
+    s.grid_f = fftwf_alloc_real(3 * s.n_real);
+    s.spectrum_f = fftwf_alloc_complex(3 * s.n_complex);
+    s.forward_f = fftwf_plan_many_dft_r2c(3, dims, 3, s.grid_f, nullptr, 3, 1,
+                                          s.spectrum_f, nullptr, 3, 1, FFTW_ESTIMATE);
+    s.backward_f = fftwf_plan_many_dft_c2r(3, dims, 3, s.spectrum_f, nullptr, 3, 1,
+                                           s.grid_f, nullptr, 3, 1, FFTW_ESTIMATE);
+    return;
+  }
   static const bool threads_ready = fftw_init_threads() != 0;
   if (threads_ready)
     fftw_plan_with_nthreads(omp_get_max_threads());
-  const int* dims = p.grid;
+  s.grid = fftw_alloc_real(3 * s.n_real);
+  s.spectrum = fftw_alloc_complex(3 * s.n_complex);
   s.forward = fftw_plan_many_dft_r2c(3, dims, 3, s.grid, nullptr, 3, 1, s.spectrum,
                                      nullptr, 3, 1, FFTW_ESTIMATE);
   s.backward = fftw_plan_many_dft_c2r(3, dims, 3, s.spectrum, nullptr, 3, 1, s.grid,
@@ -227,10 +280,28 @@ SpectralEwald::SpectralEwald(double L, const EwaldParameters& ewald,
 }
 
 SpectralEwald::~SpectralEwald() {
-  fftw_destroy_plan(impl_->forward);
-  fftw_destroy_plan(impl_->backward);
-  fftw_free(impl_->grid);
-  fftw_free(impl_->spectrum);
+  Impl& s = *impl_;
+  if (s.p.single) {
+    fftwf_destroy_plan(s.forward_f);
+    fftwf_destroy_plan(s.backward_f);
+    fftwf_free(s.grid_f);
+    fftwf_free(s.spectrum_f);
+    return;
+  }
+  fftw_destroy_plan(s.forward);
+  fftw_destroy_plan(s.backward);
+  fftw_free(s.grid);
+  fftw_free(s.spectrum);
+}
+
+template <class T>
+void SpectralEwald::Impl::gather(const ShearedLattice& g, const T* grid,
+                                 const std::vector<Vec3>& targets,
+                                 std::vector<Vec3>& u) const {
+  const double cell = g.L * g.L * g.L / double(n_real); // V / (M_x M_y M_z)
+#pragma omp parallel for schedule(static)
+  for (size_t i = 0; i < targets.size(); ++i)
+    u[i] += cell * gather_point(spread_grid, g, grid, targets[i]);
 }
 
 void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& src,
@@ -239,19 +310,30 @@ void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& sr
   Impl& s = *impl_;
   const double t0 = omp_get_wtime();
   const long n_grid = long(3 * s.n_real);
+  double t1, t2;
+  if (s.p.single) {
 #pragma omp parallel for schedule(static)
-  for (long j = 0; j < n_grid; ++j)
-    s.grid[j] = 0.0;
-  s.spread(g, src);
-  const double t1 = omp_get_wtime();
-  fftw_execute(s.forward);
-  s.scale_spectrum(g);
-  fftw_execute(s.backward);
-  const double t2 = omp_get_wtime();
-  const double cell = g.L * g.L * g.L / double(s.n_real); // V / (M_x M_y M_z)
+    for (long j = 0; j < n_grid; ++j)
+      s.grid_f[j] = 0.0f;
+    s.spread(g, src, s.grid_f);
+    t1 = omp_get_wtime();
+    fftwf_execute(s.forward_f);
+    s.scale_spectrum(g, s.spectrum_f);
+    fftwf_execute(s.backward_f);
+    t2 = omp_get_wtime();
+    s.gather(g, s.grid_f, targets, u);
+  } else {
 #pragma omp parallel for schedule(static)
-  for (size_t i = 0; i < targets.size(); ++i)
-    u[i] += cell * gather_point(s.spread_grid, g, s.grid, targets[i]);
+    for (long j = 0; j < n_grid; ++j)
+      s.grid[j] = 0.0;
+    s.spread(g, src, s.grid);
+    t1 = omp_get_wtime();
+    fftw_execute(s.forward);
+    s.scale_spectrum(g, s.spectrum);
+    fftw_execute(s.backward);
+    t2 = omp_get_wtime();
+    s.gather(g, s.grid, targets, u);
+  }
   if (timings) {
     timings->spread += t1 - t0;
     timings->fft += t2 - t1;

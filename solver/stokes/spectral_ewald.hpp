@@ -25,9 +25,10 @@
 namespace capsim {
 
 struct SpectralParameters {
-  int grid[3] = {};   // M_d points along x, y (the sheared direction) and z (even)
-  int support = 0;    // P grid points of Gaussian support per direction
-  double eta[3] = {}; // Gaussian splitting per direction, 0 < eta_d < 1
+  int grid[3] = {};    // M_d points along x, y (the sheared direction) and z (even)
+  int support = 0;     // P grid points of Gaussian support per direction
+  double eta[3] = {};  // Gaussian splitting per direction, 0 < eta_d < 1
+  bool single = false; // grids and FFTs in single precision (ewald.precision)
 };
 
 // P from the tolerance (truncation and quadrature errors ~ exp(-pi P / 2)); M_d from the

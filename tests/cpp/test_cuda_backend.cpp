@@ -107,7 +107,7 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   const Membrane bent(mesh.topology, mesh.positions.data(), 1.0, 0.05);
   const FlowCapabilities device = DeviceFlow::capabilities();
   FlowSetup consistent{plain}, direct{plain}, repelled{plain}, wide{plain},
-      spectral{plain};
+      spectral{plain}, single{plain};
   consistent.load = LoadMapping::consistent;
   direct.box = make_periodic_box(6.0, {EwaldMethod::direct, 1e-4}, 100, 300);
   repelled.repulsion.force = 5;
@@ -116,12 +116,15 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   EwaldRequest automatic{EwaldMethod::spectral, 1e-4};
   automatic.max_cut_fraction = device.max_cut_fraction;
   spectral.box = make_periodic_box(6.0, automatic, 100, 300);
+  automatic.precision = GridPrecision::automatic; // single at 1e-4
+  single.box = make_periodic_box(6.0, automatic, 100, 300);
   const std::vector<std::pair<FlowSetup, std::string>> refused = {
       {{bent}, "membrane.bending: must be 0 with backend: cuda"},
       {consistent, "membrane.load: must be lumped with backend: cuda"},
       {direct, "method: must be spectral with backend: cuda"},
       {repelled, "suspension.repulsion_force: must be 0 with backend: cuda"},
-      {wide, "ewald.xi: the real-space cut-off"}};
+      {wide, "ewald.xi: the real-space cut-off"},
+      {single, "ewald.precision: must be double with backend: cuda"}};
   for (const auto& [setup, message] : refused) {
     CHECK_THAT(unsupported_by(setup, device, Backend::cuda), Catch::StartsWith(message));
     CHECK(unsupported_by(setup, CpuFlow::capabilities(), Backend::cpu).empty());

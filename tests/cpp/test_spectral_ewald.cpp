@@ -69,6 +69,34 @@ TEST_CASE("spectral ewald: error tracks the tolerance against direct k-space sum
   }
 }
 
+// Single-precision grids (ewald.precision single) round the grid values to 24 bits:
+// the reciprocal sum moves by about 1e-7 to 1e-6 of itself (FFT and stencil sums of a few
+// hundred terms), far below the tolerances from which `auto` takes them (1e-5), while
+// the truncation error stays that of the double grids.
+TEST_CASE("spectral ewald: single-precision grids round, but keep the tolerance",
+          "[spectral]") {
+  const double L = 5.0, xi = 1.2;
+  PointSet set(L, 300, 60, 11);
+  const ShearedLattice g = make_sheared_lattice(L, 0.3);
+  std::vector<Vec3> ref(set.targets.size());
+  ewald_reciprocal_direct(g, set.targets, set.sources,
+                          choose_ewald_parameters(L, 1e-14, xi), ref);
+  for (double tol : {1e-3, 1e-5}) {
+    const EwaldParameters e = choose_ewald_parameters(L, tol, xi);
+    SpectralParameters p = choose_spectral_parameters(L, e, tol);
+    std::vector<Vec3> u_double(set.targets.size()), u_single(set.targets.size());
+    SpectralEwald(L, e, p).add_reciprocal(g, set.sources, set.targets, u_double);
+    p.single = true;
+    SpectralEwald(L, e, p).add_reciprocal(g, set.sources, set.targets, u_single);
+    const double rounding = relative_error(u_single, u_double);
+    INFO("tol " << tol << ": single against double " << rounding << ", against the "
+                << "reference " << relative_error(u_single, ref));
+    CHECK(rounding > 1e-9); // the single path ran: its rounding shows
+    CHECK(rounding < 2e-6);
+    CHECK(relative_error(u_single, ref) < 5 * tol);
+  }
+}
+
 TEST_CASE("ewald reciprocal: the half-space row sums equal the plain sum over all "
           "wave vectors",
           "[spectral]") {

@@ -1,0 +1,106 @@
+"""Single-precision Spectral-Ewald grids against double, side by side on the workflow's
+runs: speed and accuracy in one invocation.
+
+    .venv/bin/python benchmarks/precision_compare.py [--out results/benchmarks/precision.json]
+
+For each case (the Table 1 point at level 3 over 3 strain units and at level 4 over 0.5,
+the quantitative configuration's settings: benchmarks/step_profile.py) it runs capsim with
+`ewald.precision` double and single, one after the other (so each ratio is measured on
+the same machine minutes apart), and reports wall and CPU seconds per capsule per unit
+strain with the in-situ seconds of the reciprocal stages, the averages <D> and mu_sp over
+the second half of each run with their standard errors (analysis.averages) and their
+difference in units of the standard error; and from `capsim bench` (M 27 stretched capsules at the same phi and level),
+the velocity error of each against a tight direct-Ewald reference at the tolerance the
+runs use. Run it on an otherwise idle machine.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from analysis.averages import run_averages
+from analysis.read_run import read_summary, read_timeseries
+from analysis.rheology import rheology
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from step_profile import CAPSIM, CASE  # noqa: E402
+
+CASES = {3: 3.0, 4: 0.5}  # mesh level: strain units
+
+
+def run(level, t_end, precision, threads, scratch):
+    out = Path(scratch) / f"l{level}_{precision}"
+    profile = out.with_suffix(".json")
+    sets = [f"--set={k}={v}" for k, v in {
+        **CASE, "mesh_level": level, "t_end": t_end, "t_avg_start": t_end / 2,
+        "threads": threads, "ewald.precision": precision}.items()]
+    start, cpu = time.perf_counter(), os.times()
+    subprocess.run([str(CAPSIM), "run", "-q", *sets, "-o", str(out), "--profile",
+                    str(profile)], check=True, env={"OMP_WAIT_POLICY": "passive", **os.environ})
+    wall = time.perf_counter() - start
+    after = os.times()
+    cpu_s = after.children_user + after.children_system - cpu.children_user - cpu.children_system
+    summary = read_summary(out)
+    avg = run_averages(read_timeseries(out), t_end / 2)
+    mu = rheology(avg["stresslet"], CASE["phi"], CASE["ca"])["mu_sp"]
+    mu_se = abs(mu / avg["stresslet"][0, 1]) * avg["stresslet_se"][0, 1]
+    seconds = json.loads(profile.read_text())["seconds"]
+    per = CASE["capsules"] * t_end
+    return {"wall_s_per_capsule_strain": wall / per, "cpu_s_per_capsule_strain": cpu_s / per,
+            "reciprocal_s": seconds["reciprocal"], "fft_s": seconds["fft"],
+            "spreading_s": seconds["spreading"], "gathering_s": seconds["gathering"],
+            "D": avg["D"], "D_se": float(avg["D_se"]), "mu_sp": float(mu),
+            "mu_sp_se": float(mu_se), "tolerance": summary["parameters"]["ewald.tolerance"]}
+
+
+def velocity_error(level, tolerance, precision, threads, reference):
+    out = subprocess.run([str(CAPSIM), "bench", "--capsules", str(CASE["capsules"]),
+                          "--mesh-level", str(level), "--phi", str(CASE["phi"]),
+                          "--tolerance", str(tolerance), "--precision", precision,
+                          "--threads", str(threads), "--repeats", "1", "--reference",
+                          str(reference)], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)["rel_error"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--out", help="also write the JSON here")
+    args = ap.parse_args()
+    result = {"case": CASE, "threads": args.threads, "levels": {}}
+    with tempfile.TemporaryDirectory() as scratch:
+        for level, strain in CASES.items():
+            runs = {p: run(level, strain, p, args.threads, scratch)
+                    for p in ("double", "single")}
+            d, s = runs["double"], runs["single"]
+            tol = d["tolerance"]
+            ref = Path(scratch) / f"reference_l{level}.h5"
+            entry = {"strain": strain, "runs": runs,
+                     "wall_ratio": s["wall_s_per_capsule_strain"] / d["wall_s_per_capsule_strain"],
+                     "cpu_ratio": s["cpu_s_per_capsule_strain"] / d["cpu_s_per_capsule_strain"],
+                     "D_difference_in_se": abs(s["D"] - d["D"]) / d["D_se"],
+                     "mu_sp_difference_in_se": abs(s["mu_sp"] - d["mu_sp"]) / d["mu_sp_se"],
+                     "velocity_error": {p: velocity_error(level, tol, p, args.threads, ref)
+                                        for p in ("double", "single")}}
+            result["levels"][level] = entry
+            print(f"level {level}: tolerance {tol:.3g}, wall ratio {entry['wall_ratio']:.3f}, "
+                  f"CPU ratio {entry['cpu_ratio']:.3f}; <D> {d['D']:.6f} / {s['D']:.6f} "
+                  f"(difference {entry['D_difference_in_se']:.2g} SE), mu_sp "
+                  f"{d['mu_sp']:.5f} / {s['mu_sp']:.5f} "
+                  f"({entry['mu_sp_difference_in_se']:.2g} SE); velocity error "
+                  f"{entry['velocity_error']['double']:.3g} / "
+                  f"{entry['velocity_error']['single']:.3g}", file=sys.stderr)
+    text = json.dumps(result, indent=1)
+    if args.out:
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(text + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
