@@ -184,9 +184,11 @@ struct SpectralEwald::Impl {
   void scale_spectrum(const ShearedLattice& g, Complex* spectrum);
   template <class T>
   void spread(const ShearedLattice& g, const FarSources& src, T* grid) const;
-  template <class T>
-  void gather(const ShearedLattice& g, const T* grid, const std::vector<Vec3>& targets,
-              std::vector<Vec3>& u) const;
+  template <class T, class Complex, class Forward, class Backward>
+  void evaluate(const ShearedLattice& g, const FarSources& src,
+                const std::vector<Vec3>& targets, std::vector<Vec3>& u, T* grid,
+                Complex* spectrum, Forward forward, Backward backward,
+                SpectralTimings* timings);
 };
 
 // Spreads the sources to the grid in parallel without races: the sources are binned into
@@ -294,51 +296,47 @@ SpectralEwald::~SpectralEwald() {
   fftw_free(s.spectrum);
 }
 
-template <class T>
-void SpectralEwald::Impl::gather(const ShearedLattice& g, const T* grid,
-                                 const std::vector<Vec3>& targets,
-                                 std::vector<Vec3>& u) const {
+// Spread, transform, scale, transform back and gather on the grid of precision T;
+// forward() and backward() execute the matching FFTW plans.
+template <class T, class Complex, class Forward, class Backward>
+void SpectralEwald::Impl::evaluate(const ShearedLattice& g, const FarSources& src,
+                                   const std::vector<Vec3>& targets, std::vector<Vec3>& u,
+                                   T* grid, Complex* spectrum, Forward forward,
+                                   Backward backward, SpectralTimings* timings) {
+  const double t0 = omp_get_wtime();
+  const long n_grid = long(3 * n_real);
+#pragma omp parallel for schedule(static)
+  for (long j = 0; j < n_grid; ++j)
+    grid[j] = T(0);
+  spread(g, src, grid);
+  const double t1 = omp_get_wtime();
+  forward();
+  scale_spectrum(g, spectrum);
+  backward();
+  const double t2 = omp_get_wtime();
   const double cell = g.L * g.L * g.L / double(n_real); // V / (M_x M_y M_z)
 #pragma omp parallel for schedule(static)
   for (size_t i = 0; i < targets.size(); ++i)
     u[i] += cell * gather_point(spread_grid, g, grid, targets[i]);
+  if (timings) {
+    timings->spread += t1 - t0;
+    timings->fft += t2 - t1;
+    timings->gather += omp_get_wtime() - t2;
+  }
 }
 
 void SpectralEwald::add_reciprocal(const ShearedLattice& g, const FarSources& src,
                                    const std::vector<Vec3>& targets, std::vector<Vec3>& u,
                                    SpectralTimings* timings) {
   Impl& s = *impl_;
-  const double t0 = omp_get_wtime();
-  const long n_grid = long(3 * s.n_real);
-  double t1, t2;
-  if (s.p.single) {
-#pragma omp parallel for schedule(static)
-    for (long j = 0; j < n_grid; ++j)
-      s.grid_f[j] = 0.0f;
-    s.spread(g, src, s.grid_f);
-    t1 = omp_get_wtime();
-    fftwf_execute(s.forward_f);
-    s.scale_spectrum(g, s.spectrum_f);
-    fftwf_execute(s.backward_f);
-    t2 = omp_get_wtime();
-    s.gather(g, s.grid_f, targets, u);
-  } else {
-#pragma omp parallel for schedule(static)
-    for (long j = 0; j < n_grid; ++j)
-      s.grid[j] = 0.0;
-    s.spread(g, src, s.grid);
-    t1 = omp_get_wtime();
-    fftw_execute(s.forward);
-    s.scale_spectrum(g, s.spectrum);
-    fftw_execute(s.backward);
-    t2 = omp_get_wtime();
-    s.gather(g, s.grid, targets, u);
-  }
-  if (timings) {
-    timings->spread += t1 - t0;
-    timings->fft += t2 - t1;
-    timings->gather += omp_get_wtime() - t2;
-  }
+  if (s.p.single)
+    s.evaluate(
+        g, src, targets, u, s.grid_f, s.spectrum_f, [&] { fftwf_execute(s.forward_f); },
+        [&] { fftwf_execute(s.backward_f); }, timings);
+  else
+    s.evaluate(
+        g, src, targets, u, s.grid, s.spectrum, [&] { fftw_execute(s.forward); },
+        [&] { fftw_execute(s.backward); }, timings);
 }
 
 } // namespace capsim
