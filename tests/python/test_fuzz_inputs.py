@@ -118,9 +118,12 @@ def number_text(v):
 
 
 def bad_choices(k):
+    """Near misses of a choice key's first value, and words that are values of other keys
+    ("auto" is one of ewald.precision's own)."""
     first = k.choices[0]
-    return [first.upper(), first + " ", " " + first, first[:-1], first + "x",
-            first.replace(first[0], "\u00e9", 1), ",".join(k.choices), "1", "auto"]
+    values = [first.upper(), first + " ", " " + first, first[:-1], first + "x",
+              first.replace(first[0], "\u00e9", 1), ",".join(k.choices), "1", "auto"]
+    return [v for v in values if v not in k.choices]
 
 
 def bad_values(k, index, share):
