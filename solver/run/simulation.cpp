@@ -182,7 +182,7 @@ private:
   double dt_; // the fixed step, or the adaptive step to try next
   double t_ = 0;
   long rejected_ = 0;
-  double first_time_ = 0; // time() when this session's stepping began, for the ETA
+  double first_time_ = 0; // time() when this invocation's stepping began, for the ETA
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
   long step_ = 0, rows_written_ = 0;
   double checkpoint_time_ = -1; // time() of the checkpoint on disk; < 0 before the first
