@@ -307,41 +307,47 @@ def sync(specs, archive_root, segment_ends, workdir="."):
     return report
 
 
-def replay(record_dir, capsim, threads=None):
+def replay(record_dir, capsim, threads=None, span=None):
     """Recomputes a record's rows after its state: restores the state into a scratch
-    folder, resumes capsim to the record's t_reached, and returns (rows compared, the
-    largest absolute difference over every dataset of those rows, the replayed rows
-    rounded as the record stores them). The same thread count as the record's last
-    segment (threads None) gives the same reductions in the same order, so the
-    difference is exactly 0; another count changes the last bits of the sums (relative
-    1e-15 a step, growing with the steps replayed), which single precision hides only
-    while they stay below its rounding."""
+    folder, resumes capsim to the record's t_reached (or `span` strain units past the
+    state: then the last row, which capsim writes wherever the run ends, is left out),
+    and returns (rows compared, the largest absolute difference over every dataset of
+    those rows, the replayed rows rounded as the record stores them). The same thread
+    count as the record's last segment (threads None) gives the same reductions in the
+    same order, so the difference is exactly 0; another count changes the last bits of
+    the sums (relative 1e-15 a step, growing with the steps replayed), which single
+    precision hides only while they stay below its rounding."""
     record = read_record(record_dir)
     if record["state_time"] is None or record["state_time"] >= record["t_reached"]:
         raise ArchiveError(f"archive record {record_dir}: no state before its last row "
                            "to replay from")
     threads = threads or record["segments"][-1].get("threads") or 1
+    t_end = record["t_reached"] if span is None else min(record["t_reached"],
+                                                         record["state_time"] + span)
     with tempfile.TemporaryDirectory() as scratch:
         run_dir = Path(scratch) / "run"
         restore(record_dir, run_dir, record, full=False)
         subprocess.run([str(capsim), "run", "-q", "--resume", str(run_dir), "--set",
-                        f"t_end={record['t_reached']}", "--set", f"threads={threads}"],
+                        f"t_end={t_end}", "--set", f"threads={threads}"],
                        check=True, capture_output=True)
         with h5py.File(record_dir / SERIES, "r") as a, \
                 h5py.File(run_dir / SERIES, "r") as b:
             start = int(np.searchsorted(a["time"][()], record["state_time"], "right"))
-            names = []
-            a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset)
-                         else None)
-            if b["time"].shape != a["time"].shape:
+            stop = a["time"].shape[0] if t_end == record["t_reached"] else \
+                b["time"].shape[0] - 1
+            if stop > a["time"].shape[0] or b["time"].shape[0] < stop:
                 raise ArchiveError(f"archive record {record_dir}: the replay wrote "
                                    f"{b['time'].shape[0]} rows, the record holds "
                                    f"{a['time'].shape[0]}")
+            names = []
+            a.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset)
+                         else None)
             # The record's capsule rows are single precision: the replayed rows are
             # rounded the same way before they are compared.
-            diff = max(float(np.max(np.abs(a[n][start:] - b[n][start:].astype(a[n].dtype)),
+            diff = max(float(np.max(np.abs(a[n][start:stop]
+                                           - b[n][start:stop].astype(a[n].dtype)),
                                     initial=0.0)) for n in names)
-            return a["time"].shape[0] - start, diff
+            return stop - start, diff
 
 
 def _records(paths):

@@ -190,3 +190,21 @@ def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
                           capture_output=True, text=True, timeout=1200)
     assert full.returncode == 0, full.stdout[-3000:] + full.stderr[-3000:]
     assert "0 failed" in (tmp_path / "results" / "check" / "report.md").read_text()
+
+
+def test_a_quantitative_record_replays_a_stretch_to_the_last_bit():
+    """The cheapest record of archive/quantitative that keeps a state before its last
+    row (a run of several segments keeps the start of its last one) replays 0.1 strain
+    units from it to the archived rows exactly: the record's own thread count, so the
+    same reductions in the same order."""
+    store = ROOT / "archive" / "quantitative"
+    candidates = []
+    for path in (archive._records([store]) if store.exists() else []):
+        record = archive.read_record(path)
+        if record["state_time"] is not None and record["state_time"] < record["t_reached"]:
+            options = record["options"]
+            candidates.append((options["capsules"] * 4 ** options["mesh_level"], path))
+    if not candidates:
+        pytest.skip("no record of archive/quantitative keeps a state before its end yet")
+    rows, difference = archive.replay(min(candidates)[1], CAPSIM, span=0.1)
+    assert rows >= 1 and difference == 0.0
