@@ -299,11 +299,10 @@ def sync(specs, archive_root, segment_ends, workdir="."):
                 marker(run_dir, done[-1]).write_text(
                     json.dumps({"t": record["state_time"]}) + "\n")
             report["partial"].append(spec.folder)
-        elif local is not None and (use not in ("full", "partial") or local[0] or
-                                    local[1] > record["t_reached"]):
-            if use != "full" or not (record_dir / SUMMARY).exists():
-                collect(run_dir, record_dir, key, final_state=spec.dilute)
-                report["recorded"].append(spec.folder)
+        elif local is not None and use != "full" and (
+                use != "partial" or local[0] or local[1] > record["t_reached"]):
+            collect(run_dir, record_dir, key, final_state=spec.dilute)
+            report["recorded"].append(spec.folder)
     return report
 
 

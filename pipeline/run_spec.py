@@ -28,11 +28,6 @@ from analysis import membrane as membrane_codes
 ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
 
-# Options given on every segment of a run rather than fixed at its start: capsim lets
-# them change on resume, and none of them changes the trajectory.
-RESUME_KEYS = ("t_end", "t_avg_start", "threads")
-
-
 def physics_version():
     """The solver's physics version: the first word of solver/PHYSICS_VERSION."""
     return PHYSICS_VERSION_FILE.read_text().split()[0]
