@@ -1,7 +1,8 @@
 """One capsim run, or one segment of it, as a workflow job: the command of the run rules.
 
     python -m pipeline.job --capsim CAPSIM --dir RUN_DIR --log LOG [--pause-at T]
-        [--marker FILE] [--archive DIR --record STUDY/NAME --key KEY] [--stopped-ok]
+        [--marker FILE] [--archive DIR --record STUDY/NAME --key KEY [--final-state]]
+        [--stopped-ok]
         [--resume-set KEY=VALUE ...] -- --set KEY=VALUE ...
 
 A folder that holds a checkpoint (a run that was killed, a segment that paused, a run
