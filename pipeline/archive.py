@@ -366,7 +366,7 @@ def main(argv=None):
                                             "build" / "capsim"),
                     help="the solver, for replay (default build/capsim)")
     args = ap.parse_args(argv)
-    bad = 0
+    bad, records, cpu, size = 0, 0, 0.0, 0
     current = physics_version()
     for path in _records(args.paths):
         try:
@@ -382,6 +382,8 @@ def main(argv=None):
             print(f"{path}: {rows} rows from t {record['state_time']:g} replayed, largest "
                   f"difference {diff:.3g}")
             bad += diff != 0
+        records, cpu = records + 1, cpu + record["cpu_seconds"]
+        size += sum(f.stat().st_size for f in path.iterdir())
         if args.command == "list":
             stale = "" if record["physics_version"] == current else " STALE"
             state = "finished" if record["finished"] else "partial"
@@ -389,6 +391,9 @@ def main(argv=None):
                   f"{record['cpu_seconds']:.0f} CPU s, key {record['key'][:12]}{stale}")
     if args.command == "verify":
         print(f"archive: {bad} bad record(s)" if bad else "archive: every record is sound")
+    if args.command == "list":
+        print(f"archive: {records} records, {size / 1e6:.1f} MB, "
+              f"{cpu:.0f} CPU s ({cpu / 3600:.1f} h)")
     return 1 if bad else 0
 
 
