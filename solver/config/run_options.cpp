@@ -325,7 +325,8 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> std::string& { return o.ewald.precision; },
           "method spectral: the precision of its grids and FFTs; auto = single where "
           "ewald.tolerance >= 1e-5 (its rounding, about 3e-7 of the velocities, is then "
-          "at most a thirtieth of the tolerance), double below"),
+          "at most a thirtieth of the tolerance) and the backend has single grids (cpu), "
+          "double otherwise"),
       real(
           "suspension.min_gap", {0, 2, false, false},
           [](RunOptions& o) -> double& { return o.suspension.min_gap; },

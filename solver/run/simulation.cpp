@@ -49,8 +49,13 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   r.tolerance = o.ewald.tolerance;
   r.xi = o.ewald.xi;
   r.patch_level = o.ewald.patch_level;
+  const FlowCapabilities caps = capabilities_of(parse_backend(o.backend));
   r.precision = parse_grid_precision(o.ewald.precision);
-  r.max_cut_fraction = capabilities_of(parse_backend(o.backend)).max_cut_fraction;
+  // auto chooses among what the backend has: double where it has no single grids (an
+  // explicit single is refused there by unsupported_by, naming the key).
+  if (r.precision == GridPrecision::automatic && !caps.single_grids)
+    r.precision = GridPrecision::double_precision;
+  r.max_cut_fraction = caps.max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = 3L * o.capsules * long(topo.triangles.size());
   try {

@@ -64,3 +64,20 @@ def test_the_profile_accounts_for_the_steps(tmp_path):
     assert sum(s[k] for k in parts) <= s["evaluations"] <= s["stepping"] <= s["loop"]
     assert s["spreading"] + s["fft"] + s["gathering"] <= s["reciprocal"]
     assert s["unbounded_single_layer"] == 0
+
+
+def test_single_precision_grids_move_a_short_run_by_their_rounding(tmp_path):
+    """ewald.precision auto at tolerance 1e-3 takes the single-precision grids (1e-7 of
+    the reciprocal sum, tests/cpp/test_spectral_ewald.cpp): over a few steps the samples
+    move by about that, far below the tolerance, and they do move (the single path ran)."""
+    def run(precision):
+        out = tmp_path / precision
+        subprocess.run([str(CAPSIM), "run", "-q", "--set", "ca=0.3", "--set", "phi=0.2",
+                        "--set", "capsules=2", "--set", "mesh_level=1", "--set",
+                        "t_end=0.3", "--set", "t_avg_start=0.1", "--set", "threads=1",
+                        "--set", "ewald.tolerance=1e-3", "--set",
+                        f"ewald.precision={precision}", "-o", str(out)], check=True)
+        return read_timeseries(out)["stresslet"]
+    double, single = run("double"), run("auto")
+    difference = abs(single - double).max() / abs(double).max()
+    assert 0 < difference < 1e-5
