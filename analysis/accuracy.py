@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from analysis.fits import observed_order
 from analysis.read_run import read_summary, read_timeseries
 from analysis.rheology import stress_factor
 from analysis.tables import run_row, write_table
@@ -219,16 +220,15 @@ def time_errors(got, ref, window):
     return errors
 
 
-def observed_order(values_by_level):
-    """p from the three finest levels (h halves per level): log2 of the ratio of the
-    successive differences; NaN where it cannot be observed (fewer levels, or the
-    differences do not shrink)."""
+def convergent_order(values_by_level):
+    """The observed order (analysis.fits.observed_order) of the three finest levels (h
+    halves per level) where it shows convergence (p > 0); NaN where it cannot be
+    observed (fewer levels, or the differences do not shrink)."""
     levels = sorted(values_by_level)[-3:]
     if len(levels) < 3:
         return math.nan
-    v = [values_by_level[level] for level in levels]
-    coarse, fine = abs(v[1] - v[0]), abs(v[2] - v[1])
-    return math.log2(coarse / fine) if fine > 0 and coarse > fine else math.nan
+    p = observed_order(*(values_by_level[level] for level in levels))
+    return p if p > 0 else math.nan
 
 
 def discretisation_errors(values_by_level):
@@ -236,7 +236,7 @@ def discretisation_errors(values_by_level):
     observed order (the nominal order where none is observed). Returns (errors, p)."""
     levels = sorted(values_by_level)
     finest = values_by_level[levels[-1]]
-    p = observed_order(values_by_level)
+    p = convergent_order(values_by_level)
     errors = {level: abs(values_by_level[level] - finest) / abs(finest) for level in levels}
     if len(levels) > 1:
         order = p if math.isfinite(p) else NOMINAL_ORDER

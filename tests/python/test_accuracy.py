@@ -6,7 +6,7 @@ import math
 import pandas as pd
 import pytest
 
-from analysis.accuracy import (discretisation_errors, observed_order, pareto_front,
+from analysis.accuracy import (convergent_order, discretisation_errors, pareto_front,
                                plan, time_options)
 from test_workflow_ci import ROOT, snakemake, pytestmark  # noqa: F401 (skips without capsim)
 
@@ -15,7 +15,7 @@ def test_observed_order_and_richardson_error_of_a_power_law():
     # v(level) = 1 + 0.3 h^2 with h halving per level: order 2, and the finest level's
     # error from the two finest levels is exact for a pure power law.
     values = {level: 1.0 + 0.3 * 4.0**-level for level in (1, 2, 3)}
-    assert observed_order(values) == pytest.approx(2.0, rel=1e-12)
+    assert convergent_order(values) == pytest.approx(2.0, rel=1e-12)
     errors, p = discretisation_errors(values)
     assert p == pytest.approx(2.0, rel=1e-12)
     assert errors[3] == pytest.approx(0.3 * 4.0**-3 / values[3], rel=1e-12)
