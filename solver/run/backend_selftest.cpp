@@ -6,6 +6,7 @@
 #include "dynamics/time_stepping.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "run/flow_factory.hpp"
+#include "stokes/triangle_sources.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -45,7 +46,7 @@ PeriodicBox selftest_box(const Topology& topo) {
   EwaldRequest r;
   r.max_cut_fraction = 1 / 5.5;
   return make_periodic_box(periodic_box_side(capsules, 0.1), r, capsules * topo.num_nodes,
-                           3L * capsules * long(topo.triangles.size()));
+                           far_rule_points(topo, capsules));
 }
 
 struct Report {

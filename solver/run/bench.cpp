@@ -7,6 +7,7 @@
 #include "membrane/membrane_forces.hpp"
 #include "stokes/ewald_setup.hpp"
 #include "stokes/real_space_sum.hpp"
+#include "stokes/triangle_sources.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -124,7 +125,7 @@ std::vector<Vec3> reference_velocity(const BenchOptions& o, const Configuration&
   seconds = 0;
   if (!o.reference_file.empty() && read_reference(o.reference_file, header, u))
     return u;
-  const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
+  const long points = far_rule_points(c.mesh.topology, o.capsules);
   const PeriodicBox box = make_periodic_box(c.L, {EwaldMethod::direct, kReferenceTol},
                                             long(c.x.size()), points);
   const double t0 = omp_get_wtime();
@@ -143,7 +144,7 @@ std::string run_benchmark(const BenchOptions& o) {
   const Configuration c = make_configuration(o);
   const QuadratureOptions quad;
   const long nodes = long(c.x.size());
-  const long points = 3L * o.capsules * long(c.mesh.topology.triangles.size());
+  const long points = far_rule_points(c.mesh.topology, o.capsules);
   PeriodicBox box;
   EwaldRequest request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
   try {

@@ -17,6 +17,7 @@
 #include "run/automatic_settings.hpp"
 #include "run/flow_factory.hpp"
 #include "run/summary.hpp"
+#include "stokes/triangle_sources.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -57,7 +58,7 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
     r.precision = GridPrecision::double_precision;
   r.max_cut_fraction = caps.max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
-  const long points = 3L * o.capsules * long(topo.triangles.size());
+  const long points = far_rule_points(topo, o.capsules);
   try {
     return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
   } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box

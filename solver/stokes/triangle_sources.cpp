@@ -17,6 +17,10 @@ TriangleLoad triangle_load(const Topology& topo, const std::vector<Vec3>& x,
   return t;
 }
 
+long far_rule_points(const Topology& topo, int num_capsules) {
+  return long(triangle_rule_3().n) * num_capsules * long(topo.triangles.size());
+}
+
 FarSources far_sources(const std::vector<TriangleLoad>& loads) {
   const TriangleRule rule = triangle_rule_3();
   FarSources s;

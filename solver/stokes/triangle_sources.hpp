@@ -24,6 +24,10 @@ TriangleLoad triangle_load(const Topology& topo, const std::vector<Vec3>& x,
 
 FarSources far_sources(const std::vector<TriangleLoad>& loads);
 
+// How many far-rule points (triangle_rule_3) M capsules of mesh `topo` have: the sources
+// of the dense sums, whose count the Ewald set-up balances its cost against.
+long far_rule_points(const Topology& topo, int num_capsules);
+
 // Which vertex (0-2) of triangle `t_global` the node `node` (both global, capsule after
 // capsule) is, or -1.
 int vertex_index(const Topology& topo, int node, int t_global);
