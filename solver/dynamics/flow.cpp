@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <omp.h>
-#include <sstream>
 #include <stdexcept>
 
 namespace capsim {
@@ -18,39 +17,6 @@ Backend parse_backend(const std::string& name) {
 
 std::string to_string(Backend b) {
   return choice_name(b, kBackends);
-}
-
-std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
-                           Backend backend) {
-  std::ostringstream m;
-  const std::string with = " with backend: " + to_string(backend);
-  const Membrane& membrane = s.membrane;
-  if (s.load != LoadMapping::lumped && !caps.consistent_load)
-    m << "membrane.load: must be lumped" << with << ", got '" << to_string(s.load) << "'";
-  else if (membrane.bending_modulus() > 0 && !caps.bending)
-    m << "membrane.bending: must be 0" << with << " (bending runs on the CPU only), got "
-      << membrane.bending_modulus() / membrane.shear_modulus();
-  else if (s.repulsion.on() && !caps.repulsion)
-    m << "suspension.repulsion_force: must be 0" << with
-      << " (the repulsion runs on the CPU only), got " << s.repulsion.force;
-  else if (s.box.L > 0 && s.box.method != EwaldMethod::spectral && !caps.direct_sums)
-    m << "method: must be spectral" << with << ", got '" << to_string(s.box.method)
-      << "'";
-  else if (s.box.L > 0 && s.box.ewald.r_cut >= caps.max_cut_fraction * s.box.L)
-    m << "ewald.xi: the real-space cut-off " << s.box.ewald.r_cut << " must stay below "
-      << caps.max_cut_fraction << " L = " << caps.max_cut_fraction * s.box.L << with
-      << ": raise ewald.xi";
-  else if (s.box.L > 0 && s.box.method == EwaldMethod::spectral &&
-           s.box.grid.support > caps.max_spread_support)
-    m << "ewald.tolerance: the Spectral-Ewald support of " << s.box.grid.support
-      << " points exceeds " << caps.max_spread_support << with
-      << ": raise ewald.tolerance";
-  else if (s.box.L > 0 && s.box.method == EwaldMethod::spectral && s.box.grid.single &&
-           !caps.single_grids)
-    m << "ewald.precision: must be double" << with
-      << " (its grids and FFTs are double precision), got single (set, or auto at "
-         "ewald.tolerance >= 1e-5)";
-  return m.str();
 }
 
 namespace {

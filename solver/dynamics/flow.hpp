@@ -51,11 +51,6 @@ struct FlowCapabilities {
   bool single_grids = true;           // ewald.precision single (grids and FFTs)
 };
 
-// "" when `caps` cover `setup`, else one line naming the run key to change and why
-// (`backend` names the backend in the message).
-std::string unsupported_by(const FlowSetup& setup, const FlowCapabilities& caps,
-                           Backend backend);
-
 // Wall seconds in the stages of the flow's evaluations, accumulated while a profile is
 // attached (`capsim run --profile`): what one step costs where, in situ. The CPU backend
 // fills every field; another backend only the totals.
