@@ -2,7 +2,10 @@
 
 #include "mesh/surface_geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 namespace capsim {
 
@@ -25,6 +28,33 @@ int remap_capsules(const Topology& topo, int num_capsules, const ShearedLattice&
   return moved;
 }
 
+namespace {
+
+// Indices of the nodes x[0..n) that lie within r of p: the only ones of a capsule that
+// can come within `reach` of another whose nodes all lie within r - reach of p.
+std::vector<int> nodes_within(const Vec3* x, int n, Vec3 p, double r) {
+  std::vector<int> near;
+  for (int i = 0; i < n; ++i)
+    if (norm(x[i] - p) <= r)
+      near.push_back(i);
+  return near;
+}
+
+// The closest pair of nodes between capsule a and b's image shifted by `shift`, searched
+// only in the lens where each capsule reaches into the other's bounding sphere.
+double closest_pair(const Vec3* xa, const Vec3* xb, int nn, Vec3 centre_a, Vec3 centre_b,
+                    double radius_a, double radius_b, Vec3 shift, double reach) {
+  std::vector<int> ia = nodes_within(xa, nn, centre_b + shift, radius_b + reach);
+  std::vector<int> ib = nodes_within(xb, nn, centre_a - shift, radius_a + reach);
+  double best = 1e300;
+  for (int i : ia)
+    for (int j : ib)
+      best = std::min(best, norm(xb[j] + shift - xa[i]));
+  return best;
+}
+
+} // namespace
+
 ClosestApproach closest_approach(const Topology& topo, int num_capsules,
                                  const ShearedLattice& g, const std::vector<Vec3>& x,
                                  double reach) {
@@ -36,21 +66,28 @@ ClosestApproach closest_approach(const Topology& topo, int num_capsules,
     for (int i = 0; i < nn; ++i)
       radius[c] = std::max(radius[c], norm(x[c * nn + i] - centre[c]));
   }
-  ClosestApproach best;
+  // Pairs whose bounding spheres come within reach, with the lattice shift that brings
+  // b's image nearest to a.
+  std::vector<ClosestApproach> pairs;
+  std::vector<Vec3> shifts;
   for (int a = 0; a < num_capsules; ++a)
     for (int b = a + 1; b < num_capsules; ++b) {
-      // The image of b nearest to a, as a lattice shift applied to b's nodes.
       Vec3 d = wrap_to_cell(g, centre[b] - centre[a]);
       if (norm(d) > radius[a] + radius[b] + reach)
         continue;
-      Vec3 shift = (centre[a] + d) - centre[b];
-      for (int i = 0; i < nn; ++i)
-        for (int j = 0; j < nn; ++j) {
-          double dist = norm(x[b * nn + j] + shift - x[a * nn + i]);
-          if (dist < best.distance)
-            best = {dist, a, b};
-        }
+      pairs.push_back({1e300, a, b});
+      shifts.push_back((centre[a] + d) - centre[b]);
     }
+#pragma omp parallel for schedule(dynamic)
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const int a = pairs[p].capsule_a, b = pairs[p].capsule_b;
+    pairs[p].distance = closest_pair(&x[a * nn], &x[b * nn], nn, centre[a], centre[b],
+                                     radius[a], radius[b], shifts[p], reach);
+  }
+  ClosestApproach best; // the first closest pair in (a, b) order, as a serial loop finds
+  for (const ClosestApproach& p : pairs)
+    if (p.distance < best.distance)
+      best = p;
   return best;
 }
 

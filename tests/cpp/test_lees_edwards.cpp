@@ -47,3 +47,44 @@ TEST_CASE("lees-edwards: closest approach sees neighbours across the boundary",
   CHECK(c.distance == Approx(expected));
   CHECK(c.distance < 1.3);
 }
+
+TEST_CASE("lees-edwards: closest approach equals the brute-force search below its reach",
+          "[lees-edwards]") {
+  // Three wobbly capsules of a sheared box: 0 and 1 nearly touch across the y boundary
+  // (1's image at y - L is shifted by -s L in x), 2 is far from both. The lens search
+  // must find the brute-force minimum over all nodes and images.
+  Icosphere s = make_icosphere(2);
+  const int nn = s.topology.num_nodes;
+  const double L = 6.0, reach = 0.5;
+  ShearedLattice g = make_sheared_lattice(L, 0.4);
+  const Vec3 centres[3] = {{0.3, 0.4, 3.0}, {3.1, 4.25, 3.1}, {3.2, 2.0, 0.2}};
+  std::vector<Vec3> x;
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < nn; ++i) {
+      const Vec3& p = s.positions[i];
+      double wobble = 1.0 + 0.08 * std::sin(3 * p.x + 5 * p.y + c) * std::cos(4 * p.z);
+      x.push_back(Vec3{1.1 * p.x, 0.9 * p.y, p.z} * wobble + centres[c]);
+    }
+  double brute = 1e300;
+  int brute_a = -1, brute_b = -1;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b)
+      for (int n1 = -1; n1 <= 1; ++n1)
+        for (int n2 = -1; n2 <= 1; ++n2)
+          for (int n3 = -1; n3 <= 1; ++n3) {
+            Vec3 shift = lattice_point(g, n1, n2, n3);
+            for (int i = 0; i < nn; ++i)
+              for (int j = 0; j < nn; ++j) {
+                double d = norm(x[b * nn + j] + shift - x[a * nn + i]);
+                if (d < brute)
+                  brute = d, brute_a = a, brute_b = b;
+              }
+          }
+  REQUIRE(brute < reach); // the case is built so that the search must find something
+  ClosestApproach c = closest_approach(s.topology, 3, g, x, reach);
+  CHECK(c.distance == Approx(brute).epsilon(1e-12)); // the shift is rounded differently
+  CHECK(c.capsule_a == brute_a);
+  CHECK(c.capsule_b == brute_b);
+  // With a reach below the gap nothing is close: the answer is at least that reach.
+  CHECK(closest_approach(s.topology, 3, g, x, 0.5 * brute).distance >= 0.5 * brute);
+}
