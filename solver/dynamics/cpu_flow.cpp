@@ -1,6 +1,6 @@
 #include "dynamics/cpu_flow.hpp"
 
-#include "dynamics/time_stepping.hpp"
+#include "dynamics/state_checks.hpp"
 
 #include <omp.h>
 

@@ -6,7 +6,6 @@
 // factory (run/flow_factory.hpp) checks a backend's capabilities against the set-up and
 // builds it.
 #include "dynamics/repulsion.hpp"
-#include "dynamics/step_error.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/ewald_setup.hpp"
 #include "stokes/periodic_single_layer.hpp"
@@ -81,17 +80,11 @@ public:
   // evaluate_velocity() of the backend, counted and timed into an attached profile.
   void velocity(const std::vector<Vec3>& x, double t, std::vector<Vec3>& u) const;
 
-  // The velocity the time schemes integrate: u with each capsule's volume rate removed
-  // (remove_volume_rate, dynamics/time_stepping.hpp).
+  // The right-hand side the time schemes (dynamics/time_schemes.hpp) integrate: u with
+  // each capsule's volume rate removed (remove_volume_rate,
+  // dynamics/volume_constraint.hpp).
   void volume_preserving_velocity(const std::vector<Vec3>& x, double t,
                                   std::vector<Vec3>& u) const;
-
-  // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta) on the
-  // volume-preserving velocity u: x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) +
-  // u(x*, t + dt)). Returns the embedded error estimate, the norm n of the node
-  // distances to the Euler step x*: dt/2 |u1 - u0| (dynamics/step_error.hpp).
-  double heun_step(std::vector<Vec3>& x, double t, double dt,
-                   ErrorNorm n = ErrorNorm::max) const;
 
   // On the CPU for every backend (the diagnostics need them between steps):
   // dW/dx of all capsules (capsule after capsule), returning the energy of each;

@@ -1,6 +1,7 @@
 #pragma once
-// The time schemes of the node positions, each with an embedded error estimate for the
-// adaptive step (dynamics/step_controller.hpp):
+// The time schemes of the node positions dx/dt = u(x, t), u the volume-preserving
+// velocity of the flow (Flow::volume_preserving_velocity), each with an embedded error
+// estimate for the adaptive step (dynamics/adaptive_step.hpp):
 //   heun: explicit 2nd-order Runge-Kutta (paper eq. 3.2), stable for dt ~ Ca h only;
 //   imex: the linearly implicit 2nd-order Rosenbrock-W scheme ROS2 (Verwer, Spee, Blom &
 //         Hundsdorfer 1999), gamma = 1 + 1/sqrt 2, with W = I - gamma dt J and J the
@@ -11,6 +12,7 @@
 //         constants, not order. Everything not in J (the capsule's far field, the other
 //         capsules, the shear) is treated explicitly through u.
 #include "dynamics/flow.hpp"
+#include "dynamics/step_error.hpp"
 #include "dynamics/stiff_membrane.hpp"
 
 #include <memory>
@@ -23,6 +25,13 @@ enum class TimeScheme { heun, imex };
 
 TimeScheme parse_time_scheme(const std::string& name); // throws std::invalid_argument
 std::string to_string(TimeScheme s);
+
+// One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta) on the
+// flow's volume-preserving velocity u: x* = x + dt u(x, t); x <- x + dt/2 (u(x, t) +
+// u(x*, t + dt)). Returns the embedded error estimate, the norm n of the node distances
+// to the Euler step x*: dt/2 |u1 - u0| (dynamics/step_error.hpp).
+double heun_step(const Flow& flow, std::vector<Vec3>& x, double t, double dt,
+                 ErrorNorm n = ErrorNorm::max);
 
 class Stepper {
 public:
@@ -38,7 +47,7 @@ public:
   explicit HeunStepper(const Flow& flow, ErrorNorm norm = ErrorNorm::max)
       : flow_(flow), norm_(norm) {}
   double step(std::vector<Vec3>& x, double t, double dt) override {
-    return flow_.heun_step(x, t, dt, norm_);
+    return heun_step(flow_, x, t, dt, norm_);
   }
 
 private:
@@ -57,6 +66,16 @@ private:
   StiffMembrane stiff_;
   ErrorNorm norm_;
 };
+
+// The automatic step: dt = safety * Ca * h, h the mean edge length of the undeformed
+// mesh. The membrane's fastest relaxation mode on scale h has rate ~ Gs/(mu h) = 1/(Ca
+// h), so an explicit scheme needs dt = O(Ca h) (safety 0.5 was stable at levels 2 and
+// 3 for Ca 0.03-0.6, docs/method.md). A bending modulus eb = kb / (Gs a^2) adds modes of
+// rate ~ Gs eb / (mu h^3): alone they allow dt up to about 0.2 Ca h^3 / eb (measured on a
+// relaxing capsule at levels 2 and 3), so the step becomes safety * Ca * h / (1 + 4 eb /
+// h^2), which tends to 0.125 Ca h^3 / eb at safety 0.5.
+double automatic_time_step(double ca, double mean_edge, double safety,
+                           double bending = 0);
 
 std::unique_ptr<Stepper> make_stepper(TimeScheme scheme, const Flow& flow,
                                       ErrorNorm norm = ErrorNorm::max);

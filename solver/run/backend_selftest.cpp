@@ -3,7 +3,7 @@
 #include "common/suspension.hpp"
 #include "config/run_options.hpp"
 #include "cuda/device_query.hpp"
-#include "dynamics/time_stepping.hpp"
+#include "dynamics/time_schemes.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "run/flow_factory.hpp"
 #include "stokes/triangle_sources.hpp"
@@ -80,8 +80,8 @@ void compare_case(Report& r, const std::string& name, const Membrane& membrane,
   r.line(name + ": velocity", max_relative_difference(b, a), 1e-10);
   std::vector<Vec3> xa = x0, xb = x0;
   for (int s = 0; s < steps; ++s) {
-    cpu->heun_step(xa, s * dt, dt);
-    other->heun_step(xb, s * dt, dt);
+    heun_step(*cpu, xa, s * dt, dt);
+    heun_step(*other, xb, s * dt, dt);
   }
   r.line(name + ": positions after " + std::to_string(steps) + " RK2 steps",
          max_relative_difference(xb, xa), 1e-10);

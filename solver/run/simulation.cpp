@@ -3,11 +3,12 @@
 #include "common/suspension.hpp"
 #include "diagnostics/averages.hpp"
 #include "diagnostics/capsule_diagnostics.hpp"
+#include "dynamics/adaptive_step.hpp"
 #include "dynamics/lees_edwards.hpp"
 #include "dynamics/packing.hpp"
-#include "dynamics/step_controller.hpp"
+#include "dynamics/state_checks.hpp"
 #include "dynamics/time_schemes.hpp"
-#include "dynamics/time_stepping.hpp"
+#include "dynamics/volume_constraint.hpp"
 #include "io/checkpoint_file.hpp"
 #include "io/json_writer.hpp"
 #include "io/timeseries_file.hpp"
@@ -16,6 +17,7 @@
 #include "mesh/surface_geometry.hpp"
 #include "run/automatic_settings.hpp"
 #include "run/flow_factory.hpp"
+#include "run/step_failure.hpp"
 #include "run/summary.hpp"
 #include "stokes/triangle_sources.hpp"
 
@@ -122,12 +124,14 @@ public:
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
                   o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
+        dt_(o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending)),
         flow_(make_flow(parse_backend(o.backend),
                         flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))),
         stepper_(make_stepper(parse_time_scheme(o.time.scheme), *flow_,
-                              parse_error_norm(o.time.error_norm))) {
-    dt_ = o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending);
-    control_.tolerance = o.time.tolerance;
+                              parse_error_norm(o.time.error_norm))),
+        // An adaptive step a millionth of the automatic one means a broken state.
+        adaptive_(*stepper_, o.time.tolerance, dt_,
+                  1e-6 * automatic_time_step(o.ca, h_, o.dt_safety, o.bending)) {
     // A fixed step counts steps between outputs; an adaptive one counts samples.
     const double unit = adaptive() ? o.output.sample_interval : dt_;
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
@@ -167,6 +171,8 @@ private:
   bool adaptive() const { return o_.time.tolerance > 0; }
   // gammadot t: step * dt exactly for a fixed step, so a resumed run stays on its grid.
   double time() const { return adaptive() ? t_ : step_ * dt_; }
+  // The fixed step, or the adaptive step to try next.
+  double next_dt() const { return adaptive() ? adaptive_.dt() : dt_; }
   const PeriodicBox& box() const { return flow_->setup().box; }
 
   RunOptions o_;
@@ -181,14 +187,13 @@ private:
   }
   Icosphere mesh_;
   Membrane membrane_;
-  double h_; // mean edge of the undeformed mesh: sets dt
+  double h_;  // mean edge of the undeformed mesh: sets dt
+  double dt_; // the fixed step, or the first adaptive one
   std::unique_ptr<Flow> flow_;
   std::unique_ptr<Stepper> stepper_;
-  StepController control_;
-  double dt_; // the fixed step, or the adaptive step to try next
-  double t_ = 0;
-  long rejected_ = 0;
-  double first_time_ = 0; // time() when this invocation's stepping began, for the ETA
+  AdaptiveStepper adaptive_; // steps with time.tolerance > 0
+  double t_ = 0;             // gammadot t of an adaptive run
+  double first_time_ = 0;    // time() when this invocation's stepping began, for the ETA
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
   long step_ = 0, rows_written_ = 0;
   double checkpoint_time_ = -1; // time() of the checkpoint on disk; < 0 before the first
@@ -272,9 +277,9 @@ void RunLoop::start_from(const Checkpoint& c) {
   v0_ = c.volume0;
   step_ = c.step;
   t_ = c.time;
-  rejected_ = c.rejected_steps;
+  adaptive_.set_rejected(c.rejected_steps);
   if (adaptive() && c.next_dt > 0)
-    dt_ = c.next_dt;
+    adaptive_.set_dt(c.next_dt);
   rows_written_ = c.samples_written;
   checkpoint_time_ = time();
   // Rows written after the checkpoint (a run killed between the two) are dropped.
@@ -332,32 +337,21 @@ void RunLoop::step_adaptively(Clock::time_point begin, long first) {
   }
 }
 
-// One adaptive step towards `target`; false when its error estimate rejected it (x_ and
-// t_ stay, the step shrinks). A step shortened to land on the target does not shrink
-// the step after it unless its own error asks for that.
+// One adaptive step towards `target` (dynamics/adaptive_step.hpp); false when its error
+// estimate rejected it (x_ and t_ stay, the step shrinks).
 bool RunLoop::try_step(double target) {
-  const double h = std::min(dt_, target - t_);
-  std::vector<Vec3> x = x_;
-  double error;
+  StepOutcome outcome;
   {
     ScopeTimer timer(stage(&RunProfile::stepping));
-    error = stepper_->step(x, t_, h);
+    outcome = adaptive_.step_towards(x_, t_, target);
   }
-  const double proposal = control_.next(h, error);
-  if (!control_.accept(error)) {
-    ++rejected_;
-    dt_ = proposal;
-    if (dt_ < 1e-6 * automatic_time_step(o_.ca, h_, o_.dt_safety, o_.bending))
-      throw SimulationError("at gammadot*t = " + std::to_string(t_) +
-                            " the adaptive step fell to " + std::to_string(dt_) +
-                            " without meeting time.tolerance: the state is broken (the "
-                            "output folder keeps the last good checkpoint)");
+  if (outcome == StepOutcome::failed)
+    throw SimulationError("at gammadot*t = " + std::to_string(t_) +
+                          " the adaptive step fell to " + std::to_string(adaptive_.dt()) +
+                          " without meeting time.tolerance: the state is broken (the "
+                          "output folder keeps the last good checkpoint)");
+  if (outcome == StepOutcome::rejected)
     return false;
-  }
-  if (!(h < dt_ && proposal >= h))
-    dt_ = proposal;
-  x_ = std::move(x);
-  t_ = h == target - t_ ? target : t_ + h;
   ++step_;
   return true;
 }
@@ -461,8 +455,8 @@ void RunLoop::save_checkpoint() {
   flush_samples();
   Checkpoint c;
   c.time = time();
-  c.next_dt = dt_;
-  c.rejected_steps = rejected_;
+  c.next_dt = next_dt();
+  c.rejected_steps = adaptive_.rejected();
   c.step = step_;
   c.samples_written = rows_written_;
   c.snapshots_written = long(snapshots_.size());
@@ -530,9 +524,10 @@ void RunLoop::report_progress(Clock::time_point begin, long first_step, bool for
   std::fprintf(stderr,
                "capsim: t = %.3f / %.3f (%5.1f%%)  step %ld  dt %.3g%s  %.1f steps/s  "
                "ETA %.0f s\n",
-               time(), o_.t_end, 100.0 * time() / o_.t_end, step_, dt_,
-               adaptive() ? (" (" + std::to_string(rejected_) + " rejected)").c_str()
-                          : "",
+               time(), o_.t_end, 100.0 * time() / o_.t_end, step_, next_dt(),
+               adaptive()
+                   ? (" (" + std::to_string(adaptive_.rejected()) + " rejected)").c_str()
+                   : "",
                rate, eta);
 }
 
@@ -542,8 +537,9 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   SummaryFacts facts;
   facts.ended = ended;
   facts.end_message = end_message;
-  facts.dt = adaptive() && step_ > 0 ? time() / step_ : dt_; // the mean, if adaptive
-  facts.rejected_steps = rejected_;
+  facts.dt =
+      adaptive() && step_ > 0 ? time() / step_ : next_dt(); // the mean, if adaptive
+  facts.rejected_steps = adaptive_.rejected();
   facts.mean_edge = h_;
   facts.steps = step_;
   facts.wall_seconds = wall_seconds;

@@ -1,6 +1,6 @@
 // The adaptive step: the controller's rule, and a run whose first step is far too large
 // (rejected and retried, samples still on their grid).
-#include "dynamics/step_controller.hpp"
+#include "dynamics/adaptive_step.hpp"
 #include "dynamics/step_error.hpp"
 #include "io/timeseries_file.hpp"
 

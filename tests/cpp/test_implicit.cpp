@@ -3,7 +3,7 @@
 #include "dynamics/cpu_flow.hpp"
 #include "dynamics/stiff_membrane.hpp"
 #include "dynamics/time_schemes.hpp"
-#include "dynamics/time_stepping.hpp"
+#include "dynamics/volume_constraint.hpp"
 #include "membrane/neo_hookean_hessian.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "stokes/self_mobility.hpp"
