@@ -3,6 +3,7 @@
 #include "common/suspension.hpp"
 #include "diagnostics/averages.hpp"
 #include "diagnostics/capsule_diagnostics.hpp"
+#include "diagnostics/snapshot_fields.hpp"
 #include "dynamics/adaptive_step.hpp"
 #include "dynamics/lees_edwards.hpp"
 #include "dynamics/packing.hpp"
@@ -482,34 +483,11 @@ void RunLoop::save_snapshot() {
 }
 
 // Velocity and traction (one more evaluation of the flow: one per snapshot, against two
-// per step); the principal tensions of every element, and at a node their means over
-// its elements weighted by their reference areas.
+// per step), and the membrane's tensions (diagnostics/snapshot_fields.hpp).
 void RunLoop::add_snapshot_fields(SnapshotFrame& frame) const {
   flow_->velocity(x_, frame.time, frame.velocity);
   flow_->traction(x_, frame.time, frame.traction);
-  const Topology& topo = mesh_.topology;
-  const int nn = topo.num_nodes;
-  std::vector<double> weight(x_.size(), 0.0);
-  frame.tension_max.assign(x_.size(), 0.0);
-  frame.tension_min.assign(x_.size(), 0.0);
-  for (int c = 0; c < o_.capsules; ++c) {
-    const std::vector<ElementTensions> t = membrane_.element_tensions(&x_[c * nn]);
-    for (size_t e = 0; e < t.size(); ++e) {
-      const double w = membrane_.references()[e].area0;
-      for (int node : topo.triangles[e]) {
-        frame.tension_max[c * nn + node] += w * t[e].t1;
-        frame.tension_min[c * nn + node] += w * t[e].t2;
-        weight[c * nn + node] += w;
-      }
-      frame.area_dilatation.push_back(t[e].dilatation);
-      frame.element_tension_max.push_back(t[e].t1);
-      frame.element_tension_min.push_back(t[e].t2);
-    }
-  }
-  for (size_t i = 0; i < x_.size(); ++i) {
-    frame.tension_max[i] /= weight[i];
-    frame.tension_min[i] /= weight[i];
-  }
+  add_membrane_fields(membrane_, o_.capsules, x_, frame);
 }
 
 void RunLoop::report_progress(Clock::time_point begin, long first_step, bool force) {
