@@ -94,21 +94,6 @@ def time_options(code):
     return ["time.scheme=imex", f"time.tolerance={value:g}"] + norm
 
 
-def capsim_options(setting, threads, sample_interval):
-    """The `capsim run` options of a setting's run (without -o). An adaptive step ends on
-    every sample time, so the sample interval bounds it: it must not be what limits the
-    step of the settings compared."""
-    keys = [f"ca={setting.ca:g}", f"mesh_level={setting.level}",
-            f"t_end={setting.t_end:g}", f"t_avg_start={setting.window[0]:g}",
-            f"threads={threads}",
-            f"output.sample_interval={setting.sample_interval or sample_interval:g}",
-            "output.snapshot_interval=0"] + time_options(setting.time)
-    if setting.phi > 0:
-        keys += [f"phi={setting.phi:g}", f"capsules={setting.capsules}",
-                 f"seed={setting.seed}", f"ewald.tolerance={setting.ewald:g}"]
-    return " ".join(f"--set {key}" for key in keys)
-
-
 def _suspension_plan(block):
     s = block["suspension"]
     b = block["base"]
@@ -247,16 +232,27 @@ def discretisation_errors(values_by_level):
 
 
 def run_facts(run_dir):
-    """How a run ended, its wall and CPU seconds and its CPU seconds per unit strain; the
-    times NaN for a run that was resumed (summary.json times only its last invocation)."""
+    """How a run ended, its wall and CPU seconds and its CPU seconds per unit strain: the
+    sums over its segments (segments.json, one entry per job that ended well, each from
+    the checkpoint it resumed to the last it wrote) when they follow each other from the
+    start; else NaN (a job was killed, and its time is lost)."""
     summary = read_summary(run_dir)
     facts = {"ended": summary.get("ended", "t_end")}
-    if summary.get("resumed", False):
-        print(f"accuracy: {run_dir} was resumed, so its cost is unknown: run it again "
-              "from the start (delete its folder) to time it", file=sys.stderr)
+    path = Path(run_dir) / "segments.json"
+    segments = json.loads(path.read_text()) if path.exists() else []
+    reached = 0.0
+    for segment in segments:
+        if not math.isclose(segment["t_from"], reached, abs_tol=1e-9):
+            segments = []
+            break
+        reached = segment["t_to"]
+    if not segments:
+        print(f"accuracy: the segments of {run_dir} do not cover it from the start, so "
+              "its cost is unknown: run it again from the start (delete its folder) to "
+              "time it", file=sys.stderr)
         return facts | {"wall_s": math.nan, "cpu_s": math.nan, "cpu_s_per_strain": math.nan}
-    cpu = float(summary["cpu_seconds"])
-    return facts | {"wall_s": float(summary["wall_seconds"]), "cpu_s": cpu,
+    cpu = sum(float(s["cpu_seconds"]) for s in segments)
+    return facts | {"wall_s": sum(float(s["wall_seconds"]) for s in segments), "cpu_s": cpu,
                     "cpu_s_per_strain": cpu / float(summary["t_end"])}
 
 

@@ -8,7 +8,9 @@ so a folder name or an option is spelled in one place.
 A suspension run folder names all that distinguishes the run within a configuration:
     ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>]
 (the membrane code of analysis.membrane where the run does not carry the paper's), a
-dilute run (one capsule in unbounded shear) ca<Ca>_level<level>.
+dilute run (one capsule in unbounded shear) ca<Ca>_level<level>. A study whose runs
+differ in more than these (the accuracy study: Ewald tolerance, time scheme, length)
+names them itself (RunSpec.label).
 
 The provenance key is a hash of the physics version (solver/PHYSICS_VERSION) and every
 option that changes the trajectory. t_end and t_avg_start are left out: a record that
@@ -24,6 +26,7 @@ import math
 from pathlib import Path
 
 from analysis import membrane as membrane_codes
+from analysis.accuracy import time_options
 
 ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
@@ -51,7 +54,7 @@ class RunSpec:
     """One run. study: the results folder that holds it ("dilute" for phi = 0);
     options: the configuration's run_options (suspensions only)."""
 
-    study: str
+    study: str  # "dilute" for the dilute runs of the main studies
     ca: float
     level: int
     t_end: float
@@ -61,14 +64,18 @@ class RunSpec:
     seed: int = 1
     membrane: str = membrane_codes.PAPER
     snapshot_interval: float = 0.0
-    options: tuple = ()  # (key, value) pairs of run_options, sorted
+    options: tuple = ()  # (key, value) pairs of further capsim options, sorted
+    label: str = ""  # the folder name, where the study names its runs itself
 
     @property
     def dilute(self):
-        return self.study == "dilute"
+        """One capsule in unbounded shear (phi = 0)."""
+        return self.phi == 0
 
     @property
     def name(self):
+        if self.label:
+            return self.label
         if self.dilute:
             return f"ca{self.ca}_level{self.level}"
         suffix = "" if self.membrane == membrane_codes.PAPER else "_" + self.membrane
@@ -84,7 +91,7 @@ class RunSpec:
         """The capsim options that fix the trajectory, as a dict in command-line order
         (membrane options last: a rep<F0> overrides run_options' repulsion)."""
         if self.dilute:
-            return {"ca": self.ca, "mesh_level": self.level}
+            return {"ca": self.ca, "mesh_level": self.level} | dict(self.options)
         out = {"ca": self.ca, "phi": self.phi, "capsules": self.M,
                "mesh_level": self.level, "seed": self.seed,
                "output.snapshot_interval": self.snapshot_interval}
@@ -147,3 +154,19 @@ def dilute(ca, level, block):
     """The RunSpec of a dilute run from the configuration's dilute block."""
     return RunSpec(study="dilute", ca=ca, level=level, t_end=block["t_end"],
                    t_avg_start=block["t_avg_start"])
+
+
+def accuracy(setting, sample_interval):
+    """The RunSpec of a setting of the accuracy study (analysis.accuracy.Setting), in the
+    folder the study names: every setting is in the name. An adaptive step ends on every
+    sample time, so the sample interval bounds it: it must not be what limits the step of
+    the settings compared."""
+    options = {"output.sample_interval": setting.sample_interval or sample_interval,
+               "output.snapshot_interval": 0}
+    options |= dict(o.split("=", 1) for o in time_options(setting.time))
+    if setting.phi > 0:
+        options["ewald.tolerance"] = setting.ewald
+    return RunSpec(study="accuracy", ca=setting.ca, level=setting.level,
+                   t_end=setting.t_end, t_avg_start=setting.window[0], phi=setting.phi,
+                   M=setting.capsules, seed=setting.seed,
+                   options=tuple(sorted(options.items())), label=setting.run)

@@ -2,41 +2,13 @@
 # settings around a base run of the reduced Table 1 case and of the dilute limit, the
 # error of <D>, mu_sp and N1 split into discretisation, Ewald, time step and statistics,
 # against the CPU seconds per unit strain of each run (analysis/accuracy.py says how).
-# Runs: results/accuracy/<run>/ (the name says every setting); their summary.json holds
-# the wall and CPU seconds.
+# Runs: results/accuracy/<run>/ (the name says every setting), made by the generic run
+# rule (runs.smk) from pipeline.run_spec.accuracy; their segments.json holds the CPU
+# seconds of each segment.
 import json
-import re
-
-from analysis import accuracy as accuracy_study
 
 ACCURACY = config["accuracy"]
 ACCURACY_RUNS = accuracy_study.run_names(ACCURACY)
-
-
-rule accuracy_run:
-    input:
-        ancient(CAPSIM),
-    output:
-        "results/accuracy/{name}/summary.json",
-    log:
-        "results/logs/accuracy/{name}.log",
-    wildcard_constraints:
-        name="|".join(re.escape(name) for name in ACCURACY_RUNS),
-    params:
-        python=PYTHON,
-        dir="results/accuracy/{name}",
-        options=lambda wc, threads: accuracy_study.capsim_options(
-            ACCURACY_RUNS[wc.name], threads, ACCURACY["sample_interval"]),
-    threads: config["resources"]["threads"]
-    resources:
-        runtime=lambda wc: config["resources"]["suspension_minutes"],
-        mem_mb=lambda wc: config["resources"]["suspension_mem_mb"],
-    # As every run (runs.smk): started, or resumed from its checkpoint; a run stopped by
-    # contact is kept (its averages, if it stopped before its window, are left out). A
-    # resumed run's summary.json times only its last invocation: its cost is left out.
-    shell:
-        "{params.python} -m pipeline.job --capsim {input} --dir {params.dir} "
-        "--log {log} --stopped-ok --resume-set threads={threads} -- {params.options}"
 
 
 rule accuracy_errors:

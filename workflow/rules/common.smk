@@ -1,13 +1,14 @@
 # The workflow's functions and shared names, apart from its rules (as Snakemake's linter
 # wants). Every run is a pipeline.run_spec.RunSpec: its folder results/<study>/<name>/
 # (suspensions ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>], dilute runs
-# ca<Ca>_level<level>), its capsim options, its provenance key and its segments all come
+# ca<Ca>_level<level>, the accuracy study's as it names them), its capsim options, its provenance key and its segments all come
 # from there. A run that two studies both need is made once, in the folder of the first of
 # them in SUSPENSION_STUDIES.
 import functools
 import re
 from modulefinder import ModuleFinder
 
+from analysis import accuracy as accuracy_study
 from analysis import membrane as membrane_codes
 from pipeline import archive, run_spec
 from pipeline.run_spec import set_options
@@ -16,7 +17,7 @@ SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
 
 
 wildcard_constraints:
-    study="|".join(SUSPENSION_STUDIES + ["dilute"]),
+    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy"]),
     run=r"ca[^/]+",
     k=r"\d+",
     ca=r"[0-9.eE+-]+",
@@ -89,7 +90,7 @@ DILUTE_KEYS = []
 
 def configuration_runs():
     """Every run of the configuration's studies, by folder: what the archive restores
-    and records (the accuracy and sensitivity studies keep their own runs)."""
+    and records (the sensitivity study keeps its own runs)."""
     runs = {}
     for study in SUSPENSION_STUDIES:
         for keys in STUDY_KEYS.get(study, lambda: [])():
@@ -99,6 +100,10 @@ def configuration_runs():
         for ca, level in keys():
             spec = run_spec.dilute(ca, level, config["dilute"])
             runs[spec.folder] = spec
+    block = config["accuracy"]
+    for setting in accuracy_study.run_names(block).values():
+        spec = run_spec.accuracy(setting, block["sample_interval"])
+        runs[spec.folder] = spec
     return runs
 
 
