@@ -30,7 +30,6 @@ from pathlib import Path
 import pandas as pd
 
 from analysis import membrane
-from pipeline.run_spec import set_options
 from analysis.read_run import read_summary, read_timeseries
 from analysis.statistics import propagated_standard_error
 from analysis.tables import markdown_table, run_row, stopped_row, write_table
@@ -144,25 +143,6 @@ def run_dir(run, results, dilute_results):
     if run.is_reference:
         return Path(dilute_results) / f"ca{run.ca:g}_level{run.level}"
     return Path(results) / run.name
-
-
-def capsim_options(run, run_options, threads):
-    """The `capsim run` options of a run (without -o), as one string of --set options.
-    A suspension run gets `run_options` (config["run_options"], as every suspension run
-    of the workflow); a dilute run does not, as the dilute study's runs it is compared
-    with (workflow/rules/dilute.smk). The membrane keys are always set, so that the code
-    alone says which membrane a run carries whatever run_options hold; then the code's
-    options (imex: the time scheme)."""
-    keys = dict(sorted(run_options.items())) if run.phi > 0 else {}
-    keys |= {"membrane.wrinkling": "false", "membrane.bending": "0"}
-    keys |= dict(option.split("=", 1) for option in membrane.options(run.membrane))
-    keys |= {"ca": f"{run.ca:g}", "mesh_level": str(run.level), "t_end": f"{run.t_end:g}",
-             "t_avg_start": f"{run.window[0]:g}", "output.snapshot_interval": "0",
-             "threads": str(threads)}
-    if run.phi > 0:
-        keys |= {"phi": f"{run.phi:g}", "capsules": str(run.capsules),
-                 "seed": str(run.seed)}
-    return set_options(keys)
 
 
 def run_names(block, dilute_block):

@@ -9,8 +9,8 @@ A suspension run folder names all that distinguishes the run within a configurat
     ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>]
 (the membrane code of analysis.membrane where the run does not carry the paper's), a
 dilute run (one capsule in unbounded shear) ca<Ca>_level<level>. A study whose runs
-differ in more than these (the accuracy study: Ewald tolerance, time scheme, length)
-names them itself (RunSpec.label).
+differ in more than these (the accuracy study: Ewald tolerance, time scheme, length; the
+sensitivity study: the membrane always named) names them itself (RunSpec.label).
 
 The provenance key is a hash of the physics version (solver/PHYSICS_VERSION) and every
 option that changes the trajectory. t_end and t_avg_start are left out: a record that
@@ -91,10 +91,11 @@ class RunSpec:
         """The capsim options that fix the trajectory, as a dict in command-line order
         (membrane options last: a rep<F0> overrides run_options' repulsion)."""
         if self.dilute:
-            return {"ca": self.ca, "mesh_level": self.level} | dict(self.options)
-        out = {"ca": self.ca, "phi": self.phi, "capsules": self.M,
-               "mesh_level": self.level, "seed": self.seed,
-               "output.snapshot_interval": self.snapshot_interval}
+            out = {"ca": self.ca, "mesh_level": self.level}
+        else:
+            out = {"ca": self.ca, "phi": self.phi, "capsules": self.M,
+                   "mesh_level": self.level, "seed": self.seed,
+                   "output.snapshot_interval": self.snapshot_interval}
         out.update(dict(self.options))
         for option in membrane_codes.options(self.membrane):
             key, value = option.split("=", 1)
@@ -170,3 +171,19 @@ def accuracy(setting, sample_interval):
                    t_end=setting.t_end, t_avg_start=setting.window[0], phi=setting.phi,
                    M=setting.capsules, seed=setting.seed,
                    options=tuple(sorted(options.items())), label=setting.run)
+
+
+def sensitivity(run, run_options):
+    """The RunSpec of a run of the sensitivity study (analysis.sensitivity.Run), in the
+    folder the study names. A suspension run gets `run_options` (config["run_options"],
+    as every suspension run of the workflow); a dilute run does not, as the dilute
+    study's runs it is compared with. The membrane keys are always set, so that the code
+    alone says which membrane a run carries whatever run_options hold; the code's own
+    options come last (trajectory_options)."""
+    options = dict(run_options) if run.phi > 0 else {}
+    options |= {"membrane.wrinkling": False, "membrane.bending": 0,
+                "output.snapshot_interval": 0}
+    return RunSpec(study="sensitivity", ca=run.ca, level=run.level, t_end=run.t_end,
+                   t_avg_start=run.window[0], phi=run.phi, M=run.capsules, seed=run.seed,
+                   membrane=run.membrane, options=tuple(sorted(options.items())),
+                   label=run.name)

@@ -14,8 +14,9 @@ import yaml
 
 from analysis import membrane
 from analysis.tables import COLUMNS, run_row, stopped_row
-from analysis.sensitivity import (Run, capsim_options, changes_against_paper,
-                                  dilute_references, mark_smallest_eb, plan, run_names)
+from analysis.sensitivity import (Run, changes_against_paper, dilute_references,
+                                  mark_smallest_eb, plan, run_names)
+from pipeline import run_spec
 from test_workflow_ci import ROOT, snakemake, pytestmark  # noqa: F401 (skips without capsim)
 
 sys.path.insert(0, str(ROOT / "figures"))
@@ -41,8 +42,10 @@ def test_membrane_codes_give_capsim_options(code, options):
 
 def test_a_code_overrides_the_run_options():
     run = Run("suspension", 0.6, 0.4, 3, "eb0.025+rep5", 27, 1, 20.0, (10, 20))
-    options = capsim_options(
-        run, {"suspension.repulsion_force": 1, "membrane.wrinkling": True}, threads=2)
+    spec = run_spec.sensitivity(
+        run, {"suspension.repulsion_force": 1, "membrane.wrinkling": True})
+    options = run_spec.set_options(spec.capsim_options(threads=2))
+    assert spec.folder == "results/sensitivity/" + run.name
     assert "--set suspension.repulsion_force=5" in options
     assert "repulsion_force=1" not in options
     # the code's membrane replaces run_options' (the paper's membrane keys are always set)
@@ -212,17 +215,19 @@ def test_ci_replaces_the_levels_of_the_default(tmp_path):
     proc = snakemake(tmp_path, "sensitivity", "-n")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     counts = dict(line.split()[:2] for line in proc.stdout.splitlines()
-                  if line.split()[:1] == ["sensitivity_run"])
-    assert int(counts["sensitivity_run"]) == 4 + 1
+                  if line.split()[:1] == ["run"])
+    # one point x four membranes at level 1, one dilute run of the relaxed membrane, and the
+    # dilute study's run of the paper's membrane it is compared with.
+    assert int(counts["run"]) == 4 + 1 + 1
 
 
 def test_default_configuration_plans_the_study(tmp_path):
     proc = snakemake(tmp_path, "sensitivity", "-n", configfile="config.yaml")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     counts = dict(line.split()[:2] for line in proc.stdout.splitlines()
-                  if line.split()[:1] in (["sensitivity_run"], ["run"]))
-    assert int(counts["sensitivity_run"]) == 58
-    assert int(counts["run"]) == 14  # the dilute references, shared with the dilute study
+                  if line.split()[:1] == ["run"])
+    # 58 runs of the study, and 14 dilute references, shared with the dilute study.
+    assert int(counts["run"]) == 58 + 14
 
 
 def test_a_bad_code_stops_the_workflow_before_any_run(tmp_path):

@@ -1,7 +1,8 @@
 # The workflow's functions and shared names, apart from its rules (as Snakemake's linter
 # wants). Every run is a pipeline.run_spec.RunSpec: its folder results/<study>/<name>/
 # (suspensions ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>], dilute runs
-# ca<Ca>_level<level>, the accuracy study's as it names them), its capsim options, its provenance key and its segments all come
+# ca<Ca>_level<level>, the accuracy and sensitivity studies' as they name them), its
+# capsim options, its provenance key and its segments all come
 # from there. A run that two studies both need is made once, in the folder of the first of
 # them in SUSPENSION_STUDIES.
 import functools
@@ -10,6 +11,7 @@ from modulefinder import ModuleFinder
 
 from analysis import accuracy as accuracy_study
 from analysis import membrane as membrane_codes
+from analysis import sensitivity as sensitivity_study
 from pipeline import archive, run_spec
 from pipeline.run_spec import set_options
 
@@ -17,8 +19,8 @@ SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
 
 
 wildcard_constraints:
-    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy"]),
-    run=r"ca[^/]+",
+    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy", "sensitivity"]),
+    run=r"(dilute_)?ca[^/]+",  # dilute_: the sensitivity study's dilute runs
     k=r"\d+",
     ca=r"[0-9.eE+-]+",
     level=r"\d+",
@@ -90,7 +92,7 @@ DILUTE_KEYS = []
 
 def configuration_runs():
     """Every run of the configuration's studies, by folder: what the archive restores
-    and records (the sensitivity study keeps its own runs)."""
+    and records."""
     runs = {}
     for study in SUSPENSION_STUDIES:
         for keys in STUDY_KEYS.get(study, lambda: [])():
@@ -103,6 +105,9 @@ def configuration_runs():
     block = config["accuracy"]
     for setting in accuracy_study.run_names(block).values():
         spec = run_spec.accuracy(setting, block["sample_interval"])
+        runs[spec.folder] = spec
+    for run in sensitivity_study.plan(config["sensitivity"], config["dilute"]):
+        spec = run_spec.sensitivity(run, config["run_options"])
         runs[spec.folder] = spec
     return runs
 

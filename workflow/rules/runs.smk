@@ -28,7 +28,7 @@ def run_job(wc, threads, pause=None):
              "--log", log, "--resume-set", f"threads={threads}",
              "--resume-set", f"t_end={spec.t_end}",
              "--resume-set", f"t_avg_start={spec.t_avg_start}"]
-    if not spec.dilute:
+    if spec.study != "dilute":  # the dilute study's table has no row for a stopped run
         words.append("--stopped-ok")
     if pause is not None:
         words += ["--pause-at", str(pause), "--marker",
@@ -41,7 +41,7 @@ def run_job(wc, threads, pause=None):
 
 def run_resource(wc, what):
     """A run's cluster resource: config resources dilute_<what> or suspension_<what>."""
-    kind = "dilute" if wc.study == "dilute" else "suspension"
+    kind = "dilute" if run_of(wc.study, wc.run).dilute else "suspension"
     return config["resources"][f"{kind}_{what}"]
 
 
