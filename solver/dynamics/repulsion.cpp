@@ -2,9 +2,56 @@
 
 #include "stokes/periodic_cells.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace capsim {
+
+namespace {
+
+// The nodes that may have a partner within `range`: those within range of the bounding
+// sphere of an image of another capsule. Capsule pairs are tested first (their bounding
+// spheres within range, over the 27 images around the nearest-cell one), then the
+// nodes of each capsule against the few spheres that pass. Ascending node order.
+std::vector<int> nodes_near_others(const ShearedLattice& g, int nodes_per_capsule,
+                                   const std::vector<Vec3>& x, double range) {
+  const int n = int(x.size()), num_capsules = n / nodes_per_capsule;
+  std::vector<Vec3> centre(num_capsules);
+  std::vector<double> radius(num_capsules, 0.0);
+  for (int c = 0; c < num_capsules; ++c) {
+    Vec3 sum;
+    for (int i = 0; i < nodes_per_capsule; ++i)
+      sum += x[c * nodes_per_capsule + i];
+    centre[c] = (1.0 / nodes_per_capsule) * sum;
+    for (int i = 0; i < nodes_per_capsule; ++i)
+      radius[c] = std::max(radius[c], norm(x[c * nodes_per_capsule + i] - centre[c]));
+  }
+  // Per capsule a: the image centres of other capsules whose spheres come within range.
+  std::vector<std::vector<std::pair<Vec3, double>>> spheres(num_capsules);
+  for (int a = 0; a < num_capsules; ++a)
+    for (int b = 0; b < num_capsules; ++b) {
+      if (a == b)
+        continue;
+      const Vec3 d = wrap_to_cell(g, centre[b] - centre[a]);
+      for (int n1 = -1; n1 <= 1; ++n1)
+        for (int n2 = -1; n2 <= 1; ++n2)
+          for (int n3 = -1; n3 <= 1; ++n3) {
+            const Vec3 image = centre[a] + d + lattice_point(g, n1, n2, n3);
+            if (norm(image - centre[a]) <= radius[a] + radius[b] + range)
+              spheres[a].push_back({image, radius[b] + range});
+          }
+    }
+  std::vector<int> near;
+  for (int i = 0; i < n; ++i)
+    for (const auto& [c, r] : spheres[i / nodes_per_capsule])
+      if (norm(x[i] - c) <= r) {
+        near.push_back(i);
+        break;
+      }
+  return near;
+}
+
+} // namespace
 
 void add_repulsion_gradient(const ShearedLattice& g, int nodes_per_capsule,
                             const std::vector<Vec3>& x, const RepulsionOptions& r,
@@ -12,27 +59,35 @@ void add_repulsion_gradient(const ShearedLattice& g, int nodes_per_capsule,
   const int n = int(x.size()), num_capsules = n / nodes_per_capsule;
   if (repelled)
     repelled->assign(num_capsules, 0);
-  const PeriodicCells cells(g, r.range, x);
+  // A node outside every other capsule's sphere widened by the range has no partner, nor
+  // is it one: the cells hold only the others, in the same order, so each node's sum
+  // meets its partners in the same order as over all nodes.
+  const std::vector<int> nodes = nodes_near_others(g, nodes_per_capsule, x, r.range);
+  std::vector<Vec3> points(nodes.size());
+  for (size_t k = 0; k < nodes.size(); ++k)
+    points[k] = x[nodes[k]];
+  const PeriodicCells cells(g, r.range, points);
+  std::vector<Vec3> sum(n);
   std::vector<char> near(n, 0);
   // Each node sums the forces of its own partners: every pair is visited from both
   // sides, and the result does not depend on the thread count.
 #pragma omp parallel for schedule(dynamic, 64)
-  for (int i = 0; i < n; ++i) {
-    const int capsule = i / nodes_per_capsule;
-    Vec3 sum;
-    cells.for_neighbours(x[i], [&](int j, Vec3 image) {
-      if (j / nodes_per_capsule == capsule)
+  for (int k = 0; k < int(nodes.size()); ++k) {
+    const int i = nodes[k], capsule = i / nodes_per_capsule;
+    cells.for_neighbours(x[i], [&](int m, Vec3 image) {
+      if (nodes[m] / nodes_per_capsule == capsule)
         return;
       const Vec3 d = x[i] - image;
       const double dist = norm(d);
       if (dist >= r.range || dist == 0)
         return;
       const double s = 1.0 - dist / r.range;
-      sum += (-r.force * s * s / dist) * d; // dE/dx_i = -force (1 - d/range)^2 d/|d|
+      sum[i] += (-r.force * s * s / dist) * d; // dE/dx_i = -force (1 - d/range)^2 d/|d|
       near[i] = 1;
     });
-    grad[i] += sum;
   }
+  for (int i = 0; i < n; ++i)
+    grad[i] += sum[i];
   if (repelled)
     for (int i = 0; i < n; ++i)
       (*repelled)[i / nodes_per_capsule] += near[i];

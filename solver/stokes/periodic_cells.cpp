@@ -16,24 +16,37 @@ PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
   half_rows_ = int(std::floor(reach * n_[1] / g.L)) + 1;
   half_layers_ = int(std::floor(reach * n_[2] / g.L)) + 1;
   const int cells = n_[0] * n_[1] * n_[2];
-  std::vector<int> cell_of(points.size()), count(cells + 1, 0);
+  std::vector<int> cell_of(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     int c[3];
     wrap(points[i], c);
     cell_of[i] = (c[2] * n_[1] + c[1]) * n_[0] + c[0];
-    ++count[cell_of[i] + 1];
   }
-  start_.assign(cells + 1, 0);
-  for (int k = 0; k < cells; ++k)
-    start_[k + 1] = start_[k] + count[k + 1];
+  // Cell order: by cell, and within a cell by index (a stable counting sort).
   index_.resize(points.size());
-  std::vector<int> fill(start_.begin(), start_.end() - 1);
+  if (cells > 4 * long(points.size())) {
+    for (size_t i = 0; i < points.size(); ++i)
+      index_[i] = int(i);
+    std::stable_sort(index_.begin(), index_.end(),
+                     [&](int a, int b) { return cell_of[a] < cell_of[b]; });
+    cell_of_.resize(points.size());
+    for (size_t j = 0; j < points.size(); ++j)
+      cell_of_[j] = cell_of[index_[j]];
+  } else {
+    std::vector<int> count(cells + 1, 0);
+    for (int c : cell_of)
+      ++count[c + 1];
+    start_.assign(cells + 1, 0);
+    for (int k = 0; k < cells; ++k)
+      start_[k + 1] = start_[k] + count[k + 1];
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (size_t i = 0; i < points.size(); ++i)
+      index_[fill[cell_of[i]]++] = int(i);
+  }
   wrapped_.resize(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
+  for (size_t j = 0; j < points.size(); ++j) {
     int c[3];
-    const int j = fill[cell_of[i]]++;
-    index_[j] = int(i);
-    wrapped_[j] = points[i] - wrap(points[i], c);
+    wrapped_[j] = points[index_[j]] - wrap(points[index_[j]], c);
   }
 }
 

@@ -56,7 +56,7 @@ public:
           const int o1 = floor_div(k1, n_[0]), first = k1 - o1 * n_[0];
           const int end = std::min(n_[0] - 1, first + (last - k1));
           const Vec3 shift = lattice_point(g_, o1, o[1], o[2]) + x_shift;
-          visit(start_[row + first], start_[row + end + 1], shift);
+          visit(cell_start(row + first), cell_start(row + end + 1), shift);
           k1 += end - first + 1;
         }
       }
@@ -82,6 +82,12 @@ private:
   // (and, when `frac` is given, the place of p inside that cell, in cell widths).
   Vec3 wrap(Vec3 p, int cell[3], double* frac = nullptr) const;
   static int floor_div(int k, int n) { return (k >= 0 ? k : k - n + 1) / n; }
+  // Where cell c's points begin in cell order (c = the number of cells: the end).
+  int cell_start(int c) const {
+    return start_.empty() ? int(std::lower_bound(cell_of_.begin(), cell_of_.end(), c) -
+                                cell_of_.begin())
+                          : start_[c];
+  }
 
   ShearedLattice g_;
   double reach_;
@@ -89,6 +95,10 @@ private:
   int half_rows_, half_layers_;    // rows (y) and layers (z) of cells within reach
   std::vector<Vec3> wrapped_;      // wrapped points in cell order
   std::vector<int> start_, index_; // cell c holds index_[start_[c] .. start_[c + 1])
+  // With far more cells than points (a short reach in a large box: the repulsion),
+  // start_ is left empty and the cell of each point in cell order is searched instead,
+  // so that building costs O(points), not O(cells). The order is the same.
+  std::vector<int> cell_of_;
 };
 
 } // namespace capsim

@@ -11,7 +11,9 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
           "whatever the number of cells",
           "[cells]") {
   const double L = 7.0;
-  for (double reach : {1.3, 3.0, 9.0}) { // 5, 2, 1 cells; 9 > L needs a wider stencil
+  // 35, 16, 7 and 2 cells per side: the first two hold far more cells than points (the
+  // cells are then searched, not indexed); 9 > L needs a wider stencil.
+  for (double reach : {0.6, 1.3, 3.0, 9.0}) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-3.0, 10.0); // also outside the primary cell
     std::vector<Vec3> points(400);
@@ -21,7 +23,9 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
       ShearedLattice g = make_sheared_lattice(L, strain);
       PeriodicCells cells(g, reach, points);
       for (int t = 0; t < 50; ++t) {
-        Vec3 x{u(rng), u(rng), u(rng)};
+        // Half the queries beside a point, so that short reaches find neighbours too.
+        Vec3 x =
+            t % 2 ? points[t] + Vec3{0.1, -0.05, 0.02} : Vec3{u(rng), u(rng), u(rng)};
         std::vector<int> found;
         cells.for_neighbours(x, [&](int i, Vec3 image) {
           if (norm(image - x) < reach) {
