@@ -1,0 +1,91 @@
+"""Two builds of capsim side by side on the workflow's runs: speed and accuracy in one
+invocation, for a change that should make a step cheaper.
+
+    .venv/bin/python benchmarks/build_compare.py --old OLD/capsim [--new build/capsim]
+        [--out results/benchmarks/build_compare.json]
+
+OLD is a capsim built from the commit to compare with (for example in a git worktree:
+`git worktree add /tmp/old <commit> && bash scripts/setup.sh` there). For the Table 1
+point at the quantitative configuration's settings (benchmarks/step_profile.py: Heun at
+dt_safety 1, ewald.tolerance auto, the repulsion) at level 3 over 2 strain units and at
+level 4 over 0.3, it runs old, new, new, old (so that a drift of the machine falls on
+both alike) and reports, per build, the wall and CPU seconds per capsule per unit strain
+(the mean of its two runs), the ratio old / new, the in-situ seconds per step of every
+stage, and the accuracy: whether the two builds' time series are identical, else the
+largest difference of D and the stresslet relative to their largest values, and the
+averages <D> and mu_sp over the second half with their standard errors. Run it on an
+otherwise idle machine.
+"""
+
+import argparse
+import json
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from analysis.read_run import read_timeseries
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from precision_compare import run  # noqa: E402
+from step_profile import CAPSIM  # noqa: E402
+
+CASES = {3: 2.0, 4: 0.3}  # mesh level: strain units
+ORDER = ("old", "new", "new", "old")
+
+
+def difference(a, b):
+    """Largest difference of D and the stresslet series relative to their largest value
+    (0 where the two builds give the same bits)."""
+    return {k: float(np.max(np.abs(a[k] - b[k])) / np.max(np.abs(a[k])))
+            for k in ("D", "stresslet")}
+
+
+def compare(level, strain, builds, threads, scratch):
+    runs = {"old": [], "new": []}
+    for k, which in enumerate(ORDER):
+        out = Path(scratch) / f"l{level}_{which}{k}"
+        runs[which].append(run(level, strain, threads, out, capsim=builds[which]))
+        runs[which][-1]["series"] = read_timeseries(out)
+    per = {w: {key: float(np.mean([r[key] for r in rs]))
+               for key in ("wall_s_per_capsule_strain", "cpu_s_per_capsule_strain")}
+           for w, rs in runs.items()}
+    old, new = runs["old"][0], runs["new"][0]
+    return {"strain": strain, "builds": per,
+            "wall_ratio": per["old"]["wall_s_per_capsule_strain"]
+            / per["new"]["wall_s_per_capsule_strain"],
+            "cpu_ratio": per["old"]["cpu_s_per_capsule_strain"]
+            / per["new"]["cpu_s_per_capsule_strain"],
+            "seconds_per_step": {w: rs[0]["seconds_per_step"] for w, rs in runs.items()},
+            "difference": difference(old["series"], new["series"]),
+            "averages": {w: {k: rs[0][k] for k in ("D", "D_se", "mu_sp", "mu_sp_se")}
+                         for w, rs in runs.items()}}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--old", required=True, help="the capsim to compare with")
+    ap.add_argument("--new", default=str(CAPSIM))
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--out", help="also write the JSON here")
+    args = ap.parse_args()
+    builds = {"old": args.old, "new": args.new}
+    result = {"builds": builds, "threads": args.threads, "levels": {}}
+    with tempfile.TemporaryDirectory() as scratch:
+        for level, strain in CASES.items():
+            entry = compare(level, strain, builds, args.threads, scratch)
+            result["levels"][level] = entry
+            print(f"level {level}: wall ratio old/new {entry['wall_ratio']:.3f}, CPU ratio "
+                  f"{entry['cpu_ratio']:.3f}; differences " + ", ".join(
+                      f"{k} {v:.1e}" for k, v in entry["difference"].items()),
+                  file=sys.stderr, flush=True)
+    text = json.dumps(result, indent=1)
+    if args.out:
+        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.out).write_text(text + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
