@@ -69,8 +69,8 @@ private:
 
 // The automatic step: dt = safety * Ca * h, h the mean edge length of the undeformed
 // mesh. The membrane's fastest relaxation mode on scale h has rate ~ Gs/(mu h) = 1/(Ca
-// h), so an explicit scheme needs dt = O(Ca h) (safety 0.5 was stable at levels 2 and
-// 3 for Ca 0.03-0.6, docs/method.md). A bending modulus eb = kb / (Gs a^2) adds modes of
+// h), so an explicit scheme needs dt = O(Ca h) (Heun is stable up to safety 1.38-1.58 at
+// levels 2-4, docs/time_stepping.md). A bending modulus eb = kb / (Gs a^2) adds modes of
 // rate ~ Gs eb / (mu h^3): alone they allow dt up to about 0.2 Ca h^3 / eb (measured on a
 // relaxing capsule at levels 2 and 3), so the step becomes safety * Ca * h / (1 + 4 eb /
 // h^2), which tends to 0.125 Ca h^3 / eb at safety 0.5.
