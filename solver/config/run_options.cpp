@@ -1,5 +1,6 @@
 #include "config/run_options.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -111,12 +112,17 @@ Param boolean(const std::string& key, std::function<bool&(RunOptions&)> ref,
           }};
 }
 
-Param choice(const std::string& key, std::vector<std::string> names,
-             std::function<std::string&(RunOptions&)> ref, const std::string& help) {
+// "one of {a, b, c}"
+std::string one_of(const std::vector<std::string>& names) {
   std::string allowed = "one of {";
   for (size_t i = 0; i < names.size(); ++i)
     allowed += (i ? ", " : "") + names[i];
-  allowed += "}";
+  return allowed + "}";
+}
+
+Param choice(const std::string& key, std::vector<std::string> names,
+             std::function<std::string&(RunOptions&)> ref, const std::string& help) {
+  const std::string allowed = one_of(names);
   return {key, allowed, help,
           [=](RunOptions& o, const std::string& s) {
             for (const auto& n : names)
@@ -125,6 +131,21 @@ Param choice(const std::string& key, std::vector<std::string> names,
             bad_value(key, allowed, s);
           },
           [=](const RunOptions& o) { return ref(const_cast<RunOptions&>(o)); }};
+}
+
+// A key that takes one of `names`, stored as an enum: set parses a name already checked
+// against `names` (so the message is the same as for every choice key), get names it.
+Param named(const std::string& key, std::vector<std::string> names,
+            std::function<void(RunOptions&, const std::string&)> set,
+            std::function<std::string(const RunOptions&)> get, const std::string& help) {
+  const std::string allowed = one_of(names);
+  return {key, allowed, help,
+          [=](RunOptions& o, const std::string& s) {
+            if (std::find(names.begin(), names.end(), s) == names.end())
+              bad_value(key, allowed, s);
+            set(o, s);
+          },
+          get};
 }
 
 const std::vector<Param>& parameters();
@@ -191,19 +212,6 @@ namespace {
 
 constexpr double kBig = 1e5;
 
-Param load_mapping() {
-  const std::string allowed = "one of {lumped, consistent}";
-  return {"membrane.load", allowed,
-          "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F; "
-          "needs dt_safety <= 0.2)",
-          [=](RunOptions& o, const std::string& s) {
-            if (s != "lumped" && s != "consistent")
-              bad_value("membrane.load", allowed, s);
-            o.load = parse_load_mapping(s);
-          },
-          [](const RunOptions& o) { return to_string(o.load); }};
-}
-
 const std::vector<Param>& parameters() {
   static const std::vector<Param> table = {
       real(
@@ -212,9 +220,12 @@ const std::vector<Param>& parameters() {
       real(
           "phi", {0, 0.45, false, false}, [](RunOptions& o) -> double& { return o.phi; },
           "volume fraction; 0 = one capsule in unbounded shear (dilute limit)"),
-      choice(
+      named(
           "method", {"spectral", "direct", "patches"},
-          [](RunOptions& o) -> std::string& { return o.method; },
+          [](RunOptions& o, const std::string& s) {
+            o.ewald.method = parse_ewald_method(s);
+          },
+          [](const RunOptions& o) { return to_string(o.ewald.method); },
           "periodic sums (phi > 0): spectral (Spectral Ewald, FFT), direct (plain "
           "Ewald, the reference) or patches (plain Ewald with the reciprocal sum over "
           "multipole patches, the paper's coarse graining)"),
@@ -275,7 +286,12 @@ const std::vector<Param>& parameters() {
           "initial.stretch", {0.5, 2, false, false},
           [](RunOptions& o) -> double& { return o.initial_stretch; },
           "initial shape x -> (s x, y/sqrt s, z/sqrt s) of the reference sphere"),
-      load_mapping(),
+      named(
+          "membrane.load", {"lumped", "consistent"},
+          [](RunOptions& o, const std::string& s) { o.load = parse_load_mapping(s); },
+          [](const RunOptions& o) { return to_string(o.load); },
+          "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F; "
+          "needs dt_safety <= 0.2)"),
       real(
           "membrane.bending", {0, 1, false, false},
           [](RunOptions& o) -> double& { return o.bending; },
@@ -320,9 +336,12 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> int& { return o.ewald.patch_level; },
           "method patches: the patches are the faces of this icosphere level (0, 1, 2, "
           "3: P = 20, 80, 320, 1280 per capsule); at most mesh_level"),
-      choice(
+      named(
           "ewald.precision", {"double", "single", "auto"},
-          [](RunOptions& o) -> std::string& { return o.ewald.precision; },
+          [](RunOptions& o, const std::string& s) {
+            o.ewald.precision = parse_grid_precision(s);
+          },
+          [](const RunOptions& o) { return to_string(o.ewald.precision); },
           "method spectral: the precision of its grids and FFTs; auto = single where "
           "ewald.tolerance >= 1e-5 (its rounding, about 3e-7 of the velocities, is then "
           "at most a thirtieth of the tolerance) and the backend has single grids (cpu), "
@@ -419,7 +438,7 @@ void validate(const RunOptions& o) {
   if (o.phi == 0 && o.capsules != 1)
     throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
                       std::to_string(o.capsules));
-  if (o.method == "patches" && o.ewald.patch_level > o.mesh_level)
+  if (o.ewald.method == EwaldMethod::patches && o.ewald.patch_level > o.mesh_level)
     throw ConfigError("ewald.patch_level: must be at most mesh_level (" +
                       std::to_string(o.mesh_level) + ") with method: patches, got " +
                       std::to_string(o.ewald.patch_level));

@@ -5,6 +5,7 @@
 // apart.
 #include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
+#include "stokes/ewald_setup.hpp"
 #include "stokes/single_layer.hpp"
 
 #include <map>
@@ -23,13 +24,6 @@ struct OutputOptions {
 // The value of a tolerance given as 'auto' (run/automatic_settings.hpp resolves it).
 inline constexpr double kAutomatic = -1;
 
-struct EwaldOptions {
-  double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
-  double xi = 0;           // splitting parameter; 0 = automatic ("auto", cost-balanced)
-  int patch_level = 1;     // method patches: patches = faces of this icosphere level
-  std::string precision = "double"; // method spectral: its grids (double, single, auto)
-};
-
 struct TimeOptions {
   std::string scheme = "heun"; // heun (explicit) or imex (linearly implicit)
   double tolerance = 0;        // largest step error (error_norm), in a; 0 = a fixed step
@@ -43,19 +37,18 @@ struct SuspensionOptions {
 };
 
 struct RunOptions {
-  double ca = 0.2;                 // capillary number mu gammadot a / Gs
-  std::string method = "spectral"; // periodic sums: spectral, direct or patches
-  double phi = 0.0;                // volume fraction; 0 = one capsule in unbounded shear
-  int capsules = 1;                // capsules per periodic box
-  int mesh_level = 3;              // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
-  double dt = 0.0;                 // time step in strain units; 0 = automatic ("auto")
-  double dt_safety = 1.0;          // C in the automatic step dt = C Ca h (limit ~1.5)
-  TimeOptions time;                // scheme and adaptive step
-  double t_end = 20.0;             // end of the run, gammadot t
-  double t_avg_start = 10.0;       // start of the averaging window, gammadot t
-  int seed = 1;                    // random seed (initial positions of suspensions)
-  std::string flow = "shear";      // shear (v = (y, 0, 0)) or quiescent
-  double initial_stretch = 1.0;    // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
+  double ca = 0.2;              // capillary number mu gammadot a / Gs
+  double phi = 0.0;             // volume fraction; 0 = one capsule in unbounded shear
+  int capsules = 1;             // capsules per periodic box
+  int mesh_level = 3;           // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
+  double dt = 0.0;              // time step in strain units; 0 = automatic ("auto")
+  double dt_safety = 1.0;       // C in the automatic step dt = C Ca h (limit ~1.5)
+  TimeOptions time;             // scheme and adaptive step
+  double t_end = 20.0;          // end of the run, gammadot t
+  double t_avg_start = 10.0;    // start of the averaging window, gammadot t
+  int seed = 1;                 // random seed (initial positions of suspensions)
+  std::string flow = "shear";   // shear (v = (y, 0, 0)) or quiescent
+  double initial_stretch = 1.0; // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
   LoadMapping load = LoadMapping::lumped;
   double bending = 0.0;   // bending modulus kb / (Gs a^2); 0 = none (the paper)
   bool wrinkling = false; // relaxed (tension-field) membrane energy; false = eq. 2.11

@@ -43,10 +43,9 @@ std::vector<Vec3> deformed_capsule(const Icosphere& mesh, Vec3 c, double stretch
 // through cell bins (5 per side at least) only below L/5, which the test should cover.
 PeriodicBox selftest_box(const Topology& topo) {
   const int capsules = 2;
-  EwaldRequest r;
-  r.max_cut_fraction = 1 / 5.5;
-  return make_periodic_box(periodic_box_side(capsules, 0.1), r, capsules * topo.num_nodes,
-                           far_rule_points(topo, capsules));
+  return make_periodic_box(periodic_box_side(capsules, 0.1), EwaldOptions{},
+                           capsules * topo.num_nodes, far_rule_points(topo, capsules),
+                           1 / 5.5);
 }
 
 struct Report {

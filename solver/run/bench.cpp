@@ -146,7 +146,7 @@ std::string run_benchmark(const BenchOptions& o) {
   const long nodes = long(c.x.size());
   const long points = far_rule_points(c.mesh.topology, o.capsules);
   PeriodicBox box;
-  EwaldRequest request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
+  EwaldOptions request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
   try {
     request.precision = parse_grid_precision(o.precision);
   } catch (const std::invalid_argument& e) {

@@ -48,22 +48,17 @@ using Clock = std::chrono::steady_clock;
 PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   if (o.phi <= 0)
     return {};
-  EwaldRequest r;
-  r.method = parse_ewald_method(o.method);
-  r.tolerance = o.ewald.tolerance;
-  r.xi = o.ewald.xi;
-  r.patch_level = o.ewald.patch_level;
+  EwaldOptions r = o.ewald;
   const FlowCapabilities caps = capabilities_of(parse_backend(o.backend));
-  r.precision = parse_grid_precision(o.ewald.precision);
   // auto chooses among what the backend has: double where it has no single grids (an
   // explicit single is refused there by unsupported_by, naming the key).
   if (r.precision == GridPrecision::automatic && !caps.single_grids)
     r.precision = GridPrecision::double_precision;
-  r.max_cut_fraction = caps.max_cut_fraction;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = far_rule_points(topo, o.capsules);
   try {
-    return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points);
+    return make_periodic_box(periodic_box_side(o.capsules, o.phi), r, nodes, points,
+                             caps.max_cut_fraction);
   } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
     throw ConfigError(std::string("ewald.xi: ") + e.what());
   }

@@ -65,8 +65,8 @@ void check_given_xi(double L, double xi, const EwaldParameters& p) {
 
 } // namespace
 
-PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
-                              long points) {
+PeriodicBox make_periodic_box(double L, const EwaldOptions& request, long nodes,
+                              long points, double max_cut_fraction) {
   PeriodicBox box;
   box.L = L;
   box.method = request.method;
@@ -77,7 +77,7 @@ PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
     xi = automatic_xi(L, request.method, tolerance, nodes, points);
     // r_cut = x_cut / xi: a 5 % margin below the limit.
     const double x_cut = choose_ewald_parameters(L, tolerance, 1.0).r_cut;
-    xi = std::max(xi, x_cut / (0.95 * request.max_cut_fraction * L));
+    xi = std::max(xi, x_cut / (0.95 * max_cut_fraction * L));
   }
   box.ewald = choose_ewald_parameters(L, tolerance, xi);
   if (request.xi > 0)
@@ -100,6 +100,18 @@ GridPrecision parse_grid_precision(const std::string& name) {
     return GridPrecision::automatic;
   throw std::invalid_argument("must be one of {double, single, auto}, got '" + name +
                               "'");
+}
+
+std::string to_string(GridPrecision p) {
+  switch (p) {
+  case GridPrecision::double_precision:
+    return "double";
+  case GridPrecision::single_precision:
+    return "single";
+  case GridPrecision::automatic:
+    return "auto";
+  }
+  throw std::logic_error("a grid precision without a name");
 }
 
 ReciprocalSum reciprocal_sum(const PeriodicBox& box, SpectralEwald* spectral) {

@@ -34,28 +34,29 @@ struct PeriodicBox {
 enum class GridPrecision { double_precision, single_precision, automatic };
 
 GridPrecision parse_grid_precision(const std::string& name); // throws invalid_argument
+std::string to_string(GridPrecision p);
 
 // Single precision rounds the velocities by about 3e-7 of themselves (rms; measured:
 // docs/performance.md, "Single-precision grids"); from this tolerance on that is at most
 // a thirtieth of the requested error.
 constexpr double kSingleGridTolerance = 1e-5;
 
-// What a run asks of the periodic sums.
-struct EwaldRequest {
+// What a run asks of the periodic sums: the one type from the run's options
+// (config/run_options.hpp: method, ewald.*) to the box.
+struct EwaldOptions {
   EwaldMethod method = EwaldMethod::spectral;
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; <= 0: automatic
-  int patch_level = 1;     // method patches
-  GridPrecision precision = GridPrecision::double_precision; // method spectral
-  // The automatic xi keeps r_cut below this fraction of L (a backend's limit).
-  double max_cut_fraction = INFINITY;
+  int patch_level = 1;     // method patches: patches = faces of this icosphere level
+  GridPrecision precision = GridPrecision::double_precision; // method spectral: its grids
 };
 
-// The box of side L for `request`: xi as given, or (xi <= 0) the one of least modelled
+// The box of side L for `options`: xi as given, or (xi <= 0) the one of least modelled
 // cost for `nodes` targets and `points` quadrature points, raised where needed to keep
-// r_cut below max_cut_fraction L; then the cut-offs and, for spectral, the grid.
-PeriodicBox make_periodic_box(double L, const EwaldRequest& request, long nodes,
-                              long points);
+// r_cut below max_cut_fraction L (a backend's limit); then the cut-offs and, for
+// spectral, the grid.
+PeriodicBox make_periodic_box(double L, const EwaldOptions& options, long nodes,
+                              long points, double max_cut_fraction = INFINITY);
 
 // The reciprocal-sum selection of periodic_single_layer_velocity for this box, with the
 // Spectral-Ewald state (null unless the method is spectral).

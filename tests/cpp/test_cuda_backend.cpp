@@ -113,11 +113,10 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   repelled.repulsion.force = 5;
   wide.box = make_periodic_box(6.0, {EwaldMethod::spectral, 1e-4, 0.3}, 100, 300);
   // The automatic xi within the device's limit on r_cut.
-  EwaldRequest automatic{EwaldMethod::spectral, 1e-4};
-  automatic.max_cut_fraction = device.max_cut_fraction;
-  spectral.box = make_periodic_box(6.0, automatic, 100, 300);
+  EwaldOptions automatic{EwaldMethod::spectral, 1e-4};
+  spectral.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
   automatic.precision = GridPrecision::automatic; // single at 1e-4
-  single.box = make_periodic_box(6.0, automatic, 100, 300);
+  single.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
   const std::vector<std::pair<FlowSetup, std::string>> refused = {
       {{bent}, "membrane.bending: must be 0 with backend: cuda"},
       {consistent, "membrane.load: must be lumped with backend: cuda"},
