@@ -3,7 +3,7 @@
 // real-space sum does per target, with the data in L1/L2), repeatedly. Prints JSON with
 // GFLOP/s per thread count, counting kScreenedPairFlops per term; compare with
 // peak_flops.
-#include "stokes/real_space_sum.hpp"
+#include "stokes/ewald/real_space_sum.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -8,7 +8,7 @@
 #include "run/bench.hpp"
 #include "run/multipole_error.hpp"
 #include "run/simulation.hpp"
-#include "stokes/periodic_stokeslet.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cstdio>

@@ -5,8 +5,8 @@
 // apart.
 #include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
-#include "stokes/ewald_setup.hpp"
-#include "stokes/single_layer.hpp"
+#include "stokes/ewald/ewald_setup.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 
 #include <map>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-// Binning on the device (stokes/cell_bins.hpp): each point's cell and wrapped position,
+// Binning on the device (stokes/cells/cell_bins.hpp): each point's cell and wrapped position,
 // a sort by cell (CCCL/Thrust), and the cell offsets by binary search.
 #include "cuda/device_kernels.hpp"
 #include "cuda/launch.cuh"

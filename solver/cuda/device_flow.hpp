@@ -7,7 +7,7 @@
 // device_flow.cpp implements it with CUDA, cuda_unavailable.cpp (builds without CUDA)
 // refuses to.
 #include "dynamics/flow.hpp"
-#include "stokes/spectral_weights.hpp"
+#include "stokes/ewald/spectral_weights.hpp"
 
 #include <memory>
 #include <vector>

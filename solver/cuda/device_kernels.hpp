@@ -4,11 +4,11 @@
 // C++. Every kernel is a loop over targets or sources around a host-device function of
 // membrane/ or stokes/; all run on the default stream, in order.
 #include "membrane/tension_field.hpp"
-#include "stokes/cell_bins.hpp"
-#include "stokes/element_integrals.hpp"
-#include "stokes/near_corrections.hpp"
-#include "stokes/sheared_lattice.hpp"
-#include "stokes/spectral_weights.hpp"
+#include "stokes/cells/cell_bins.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
+#include "stokes/ewald/spectral_weights.hpp"
 
 namespace capsim::cuda {
 

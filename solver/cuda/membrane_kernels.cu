@@ -1,6 +1,6 @@
 // Membrane forces, traction, triangle sources and the Runge-Kutta update on the device:
 // launch code around membrane/tension_field.hpp (the neo-Hookean element or its
-// relaxation) and stokes/element_integrals.hpp.
+// relaxation) and stokes/quadrature/element_integrals.hpp.
 #include "cuda/device_kernels.hpp"
 #include "cuda/launch.cuh"
 #include "mesh/surface_geometry.hpp"

@@ -1,10 +1,10 @@
 // Single-layer sums on the device: the dense far sums over 3-point-rule sources (free
 // space and screened real space) and the near-field corrections, around
-// stokes/stokeslet.hpp, ewald_kernel.hpp and near_corrections.hpp.
+// stokes/kernels/stokeslet.hpp, ewald_kernel.hpp and near_corrections.hpp.
 #include "cuda/device_kernels.hpp"
 #include "cuda/launch.cuh"
-#include "stokes/binned_sums.hpp"
-#include "stokes/ewald_kernel.hpp"
+#include "stokes/cells/binned_sums.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
 
 namespace capsim::cuda {
 namespace {

@@ -1,5 +1,5 @@
 // Spectral Ewald on the device: spreading, scaling of the transformed grid and gathering,
-// around stokes/spectral_weights.hpp (the FFTs themselves are cuFFT, device_fft.cpp).
+// around stokes/ewald/spectral_weights.hpp (the FFTs themselves are cuFFT, device_fft.cpp).
 #include "cuda/device_kernels.hpp"
 #include "cuda/launch.cuh"
 

@@ -7,9 +7,9 @@
 // builds it.
 #include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
-#include "stokes/ewald_setup.hpp"
-#include "stokes/periodic_single_layer.hpp"
-#include "stokes/single_layer.hpp"
+#include "stokes/ewald/ewald_setup.hpp"
+#include "stokes/single_layer/periodic_single_layer.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 
 #include <climits>
 #include <cmath>

@@ -6,7 +6,7 @@
 // v_inf = (y, 0, 0) at the new position, changes the capsule's imposed velocity by
 // gammadot L: the Lees-Edwards conditions.
 #include "mesh/icosphere.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 #include <vector>
 

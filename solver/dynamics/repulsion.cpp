@@ -1,6 +1,6 @@
 #include "dynamics/repulsion.hpp"
 
-#include "stokes/periodic_cells.hpp"
+#include "stokes/cells/periodic_cells.hpp"
 
 #include <algorithm>
 #include <cmath>

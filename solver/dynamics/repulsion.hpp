@@ -10,7 +10,7 @@
 // solver's unit; the flow that presses two capsules together scales with it, so one
 // setting serves every Ca).
 #include "common/vec3.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 #include <vector>
 

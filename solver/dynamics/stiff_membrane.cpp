@@ -1,6 +1,6 @@
 #include "dynamics/stiff_membrane.hpp"
 
-#include "stokes/self_mobility.hpp"
+#include "stokes/kernels/self_mobility.hpp"
 
 #include <Eigen/LU>
 #include <Eigen/SparseLU>

@@ -1,7 +1,7 @@
 #pragma once
 // The stiff part of the node velocities' Jacobian that the implicit (IMEX) step inverts:
 // each capsule's own elastic load acting through its own single layer, reduced to the
-// nodes' self-mobility blocks, J_c = B dq/dx (stokes/self_mobility.hpp,
+// nodes' self-mobility blocks, J_c = B dq/dx (stokes/kernels/self_mobility.hpp,
 // Membrane::load_jacobian). It is what limits an explicit step to dt ~ Ca h: the
 // element-scale modes relax at ~ 1/(Ca h) through the singular self-interaction, while
 // the far field of the capsule, the other capsules and the shear change on the flow's
@@ -10,7 +10,7 @@
 #include "common/block_rows.hpp"
 #include "common/fixed_pattern.hpp"
 #include "membrane/membrane_forces.hpp"
-#include "stokes/single_layer.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <memory>

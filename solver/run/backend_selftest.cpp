@@ -6,7 +6,7 @@
 #include "dynamics/time_schemes.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "run/flow_factory.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -5,9 +5,9 @@
 #include "dynamics/packing.hpp"
 #include "io/json_writer.hpp"
 #include "membrane/membrane_forces.hpp"
-#include "stokes/ewald_setup.hpp"
-#include "stokes/real_space_sum.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/ewald/ewald_setup.hpp"
+#include "stokes/ewald/real_space_sum.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <cmath>
 #include <fstream>

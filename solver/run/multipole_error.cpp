@@ -3,7 +3,7 @@
 #include "config/run_options.hpp"
 #include "io/checkpoint_file.hpp"
 #include "mesh/surface_geometry.hpp"
-#include "stokes/multipole_patches.hpp"
+#include "stokes/ewald/multipole_patches.hpp"
 
 #include <sstream>
 

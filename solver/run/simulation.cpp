@@ -20,7 +20,7 @@
 #include "run/flow_factory.hpp"
 #include "run/step_failure.hpp"
 #include "run/summary.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -1,10 +1,10 @@
-// The binned neighbour sums of the GPU backend (stokes/cell_bins.hpp, binned_sums.hpp),
+// The binned neighbour sums of the GPU backend (stokes/cells/cell_bins.hpp, binned_sums.hpp),
 // run on the CPU: the stencil finds exactly the images within reach, and the binned
 // screened sum and near corrections equal the all-pairs nearest-image sums.
 #include "membrane/membrane_forces.hpp"
 #include "mesh/icosphere.hpp"
-#include "stokes/binned_sums.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/cells/binned_sums.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 #include "test_helpers.hpp"
 
 #include <algorithm>

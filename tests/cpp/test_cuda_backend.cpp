@@ -8,7 +8,7 @@
 #include "mesh/icosphere.hpp"
 #include "run/backend_selftest.hpp"
 #include "run/flow_factory.hpp"
-#include "stokes/near_corrections.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
 
 #include <catch2/catch.hpp>
 #include <cstdlib>

@@ -1,6 +1,6 @@
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/periodic_stokeslet.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 
 #include <catch2/catch.hpp>
 

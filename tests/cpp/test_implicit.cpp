@@ -6,7 +6,7 @@
 #include "dynamics/volume_constraint.hpp"
 #include "membrane/neo_hookean_hessian.hpp"
 #include "mesh/surface_geometry.hpp"
-#include "stokes/self_mobility.hpp"
+#include "stokes/kernels/self_mobility.hpp"
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>

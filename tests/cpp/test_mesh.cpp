@@ -1,7 +1,7 @@
 #include "diagnostics/capsule_diagnostics.hpp"
 #include "mesh/icosphere.hpp"
 #include "mesh/surface_geometry.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>

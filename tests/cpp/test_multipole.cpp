@@ -1,6 +1,6 @@
 #include "membrane/membrane_forces.hpp"
-#include "stokes/multipole_patches.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/ewald/multipole_patches.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
 #include "membrane/membrane_forces.hpp"
-#include "stokes/periodic_single_layer.hpp"
+#include "stokes/single_layer/periodic_single_layer.hpp"
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>

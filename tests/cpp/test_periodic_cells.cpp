@@ -1,6 +1,6 @@
-#include "stokes/near_triangle_cells.hpp"
-#include "stokes/near_triangles.hpp"
-#include "stokes/periodic_cells.hpp"
+#include "stokes/quadrature/near_triangle_cells.hpp"
+#include "stokes/quadrature/near_triangles.hpp"
+#include "stokes/cells/periodic_cells.hpp"
 
 #include <catch2/catch.hpp>
 #include <random>

@@ -1,7 +1,7 @@
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/ewald_reciprocal.hpp"
-#include "stokes/spectral_ewald.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/ewald/ewald_reciprocal.hpp"
+#include "stokes/ewald/spectral_ewald.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 
 #include <catch2/catch.hpp>
 #include <random>

@@ -1,10 +1,10 @@
-// The host-device pieces of Spectral Ewald (stokes/spectral_weights.hpp) that the CUDA
+// The host-device pieces of Spectral Ewald (stokes/ewald/spectral_weights.hpp) that the CUDA
 // backend runs: the Gaussian stencil, the grid multiplier, and the whole spread -> FFT ->
 // scale -> gather chain built from them (here with FFTW) against direct k-space sums.
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/ewald_reciprocal.hpp"
-#include "stokes/spectral_ewald.hpp"
-#include "stokes/spectral_weights.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/ewald/ewald_reciprocal.hpp"
+#include "stokes/ewald/spectral_ewald.hpp"
+#include "stokes/ewald/spectral_weights.hpp"
 
 #include <catch2/catch.hpp>
 #include <complex>

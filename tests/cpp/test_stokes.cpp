@@ -1,8 +1,8 @@
 #include "mesh/surface_geometry.hpp"
-#include "stokes/element_integrals.hpp"
-#include "stokes/near_corrections.hpp"
-#include "stokes/pair_buffer.hpp"
-#include "stokes/single_layer.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
+#include "stokes/ewald/pair_buffer.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>

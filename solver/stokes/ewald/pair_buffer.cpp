@@ -1,7 +1,7 @@
-#include "stokes/pair_buffer.hpp"
+#include "stokes/ewald/pair_buffer.hpp"
 
 #include "common/vector_clones.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 
 namespace capsim {
 namespace {

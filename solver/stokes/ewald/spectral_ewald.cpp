@@ -1,9 +1,9 @@
-#include "stokes/spectral_ewald.hpp"
+#include "stokes/ewald/spectral_ewald.hpp"
 
 #include "common/vector_clones.hpp"
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/spectral_weights.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/ewald/spectral_weights.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 
 #include <cmath>
 #include <complex>

@@ -1,7 +1,7 @@
-#include "stokes/ewald_reciprocal.hpp"
+#include "stokes/ewald/ewald_reciprocal.hpp"
 
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 
 #include <algorithm>
 #include <climits>

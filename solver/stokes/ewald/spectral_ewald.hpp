@@ -16,8 +16,8 @@
 // direction, so its support stays P points in each. The stencil weights and the mode
 // scaling are the host-device functions of spectral_weights.hpp, shared with the CUDA
 // backend; this class is the CPU orchestration (parallel spreading, FFTW, gathering).
-#include "stokes/periodic_stokeslet.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <memory>
 #include <vector>

@@ -2,9 +2,9 @@
 // The periodic real-space sums of one target over binned sources (cell_bins.hpp): the
 // screened far sum and the near-field corrections. Host-device: the GPU backend runs one
 // target per thread, and the CPU tests check them against the CPU path's sums.
-#include "stokes/cell_bins.hpp"
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/near_corrections.hpp"
+#include "stokes/cells/cell_bins.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
 
 namespace capsim {
 

@@ -1,6 +1,6 @@
-#include "stokes/self_mobility.hpp"
+#include "stokes/kernels/self_mobility.hpp"
 
-#include "stokes/element_integrals.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
 
 namespace capsim {
 

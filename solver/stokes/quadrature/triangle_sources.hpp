@@ -3,9 +3,9 @@
 // quadrature points of every triangle as structure-of-arrays, the input of the dense
 // sums.
 #include "mesh/icosphere.hpp"
-#include "stokes/element_integrals.hpp"
-#include "stokes/near_corrections.hpp"
-#include "stokes/single_layer.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 
 #include <vector>
 

@@ -1,10 +1,10 @@
-#include "stokes/single_layer.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 
 #include "common/vector_clones.hpp"
-#include "stokes/element_integrals.hpp"
-#include "stokes/near_triangles.hpp"
-#include "stokes/pair_buffer.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/quadrature/near_triangles.hpp"
+#include "stokes/ewald/pair_buffer.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <cmath>
 #include <omp.h>

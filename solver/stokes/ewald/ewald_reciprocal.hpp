@@ -5,9 +5,9 @@
 // evaluated directly, O((N_targets + N_sources) K): the reference for Spectral Ewald.
 // Half the wave vectors are summed (k and -k give the same), and the phase factors come
 // from per-point tables of exp(i m b_d . x) by complex products, not sines and cosines.
-#include "stokes/multipole_patches.hpp"
-#include "stokes/periodic_stokeslet.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/ewald/multipole_patches.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <vector>
 

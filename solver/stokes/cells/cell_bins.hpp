@@ -9,7 +9,7 @@
 // PeriodicCells, which prunes the stencil to the cut-off sphere, but it needs no
 // per-target state and no branches beyond the distance test.
 #include "common/hd.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
-#include "stokes/triangle_sources.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
-#include "stokes/near_corrections.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
 
 namespace capsim {
 

@@ -1,7 +1,7 @@
-#include "stokes/periodic_stokeslet.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
 
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/stokeslet.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/kernels/stokeslet.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,7 +1,7 @@
-#include "stokes/ewald_setup.hpp"
+#include "stokes/ewald/ewald_setup.hpp"
 
 #include "common/choice.hpp"
-#include "stokes/ewald_reciprocal.hpp"
+#include "stokes/ewald/ewald_reciprocal.hpp"
 
 #include <algorithm>
 #include <sstream>

@@ -13,9 +13,9 @@
 // Both parts use the same rule points, so the split is exact up to the Ewald tolerance
 // whatever xi is: xi only trades real-space work against reciprocal-space work.
 #include "mesh/icosphere.hpp"
-#include "stokes/periodic_stokeslet.hpp"
-#include "stokes/single_layer.hpp"
-#include "stokes/spectral_ewald.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/single_layer/single_layer.hpp"
+#include "stokes/ewald/spectral_ewald.hpp"
 
 #include <vector>
 

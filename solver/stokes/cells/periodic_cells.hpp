@@ -8,7 +8,7 @@
 // pair, so every image is visited once, also when the same cell is met under several
 // shifts (several images, reach > L).
 #include "common/vec3.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 #include <algorithm>
 #include <vector>

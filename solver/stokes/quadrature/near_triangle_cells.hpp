@@ -1,6 +1,6 @@
 #pragma once
-#include "stokes/near_triangles.hpp"
-#include "stokes/periodic_cells.hpp"
+#include "stokes/quadrature/near_triangles.hpp"
+#include "stokes/cells/periodic_cells.hpp"
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "stokes/triangle_rules.hpp"
+#include "stokes/quadrature/triangle_rules.hpp"
 
 #include <cmath>
 

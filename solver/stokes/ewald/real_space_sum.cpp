@@ -1,8 +1,8 @@
-#include "stokes/real_space_sum.hpp"
+#include "stokes/ewald/real_space_sum.hpp"
 
 #include "common/vector_clones.hpp"
-#include "stokes/ewald_kernel.hpp"
-#include "stokes/pair_buffer.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
+#include "stokes/ewald/pair_buffer.hpp"
 
 namespace capsim {
 

@@ -1,6 +1,6 @@
-#include "stokes/multipole_patches.hpp"
+#include "stokes/ewald/multipole_patches.hpp"
 
-#include "stokes/element_integrals.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
 
 #include <stdexcept>
 

@@ -10,7 +10,7 @@
 #include "common/constants.hpp"
 #include "common/fast_special.hpp"
 #include "common/vec3.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 #include <cmath>
 #include <cstddef>

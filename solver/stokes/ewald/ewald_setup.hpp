@@ -2,9 +2,9 @@
 // One home for the set-up of the periodic sums: the method, and the choice of xi, the
 // cut-offs and the Spectral-Ewald grid from one tolerance. A run, `capsim bench` and the
 // backend self-test all build their box here.
-#include "stokes/periodic_single_layer.hpp"
-#include "stokes/periodic_stokeslet.hpp"
-#include "stokes/spectral_ewald.hpp"
+#include "stokes/single_layer/periodic_single_layer.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/ewald/spectral_ewald.hpp"
 
 #include <cmath>
 #include <string>

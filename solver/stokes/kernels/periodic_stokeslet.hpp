@@ -3,7 +3,7 @@
 // the reference kernel behind `capsim greens` and the tests of the fast methods.
 #include "common/constants.hpp"
 #include "common/vec3.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 #include <cmath>
 #include <vector>

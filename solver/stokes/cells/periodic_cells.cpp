@@ -1,4 +1,4 @@
-#include "stokes/periodic_cells.hpp"
+#include "stokes/cells/periodic_cells.hpp"
 
 #include <algorithm>
 #include <cmath>

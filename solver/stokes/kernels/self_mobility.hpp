@@ -6,7 +6,7 @@
 // stiff part of the single-layer operator: what an implicit step keeps of it.
 #include "common/vec3.hpp"
 #include "mesh/icosphere.hpp"
-#include "stokes/single_layer.hpp"
+#include "stokes/single_layer/single_layer.hpp"
 
 #include <vector>
 

@@ -3,9 +3,9 @@
 //   sum over all images of all far-rule points y with |x - y| < r_cut of J^EI(x - y) f.
 // Per target the neighbours are gathered from cell lists into a contiguous buffer, then
 // summed in one vectorised loop (the kernel has no branches; see fast_special.hpp).
-#include "stokes/periodic_cells.hpp"
-#include "stokes/periodic_stokeslet.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/cells/periodic_cells.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <vector>
 

@@ -7,8 +7,8 @@
 // CUDA backend.
 #include "common/vec3.hpp"
 #include "mesh/surface_geometry.hpp"
-#include "stokes/stokeslet.hpp"
-#include "stokes/triangle_rules.hpp"
+#include "stokes/kernels/stokeslet.hpp"
+#include "stokes/quadrature/triangle_rules.hpp"
 
 namespace capsim {
 
@@ -35,7 +35,7 @@ CAPSIM_HD Vec3 triangle_centroid(const Vec3 p[3]) {
 // - y and w the load times the weight and area (the kernel is linear in the load). Each
 // rule is written once as a visitor of its (r, w) pairs: integrate_* sum J(r) w point by
 // point (as the device kernels do), and the CPU sums collect the pairs of many triangles
-// into one vectorised loop (stokes/pair_buffer.hpp).
+// into one vectorised loop (stokes/ewald/pair_buffer.hpp).
 
 // The points of a triangle rule: visit(x - y_g, w_g A q(y_g)), A the triangle's area.
 template <class Visit>

@@ -4,8 +4,8 @@
 // 3-point rule; for a triangle near the target that is replaced by an accurate integral
 // (the polar rule when the target is one of its vertices, adaptive subdivision
 // otherwise), so the correction is the accurate integral minus the 3-point rule.
-#include "stokes/element_integrals.hpp"
-#include "stokes/sheared_lattice.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/cells/sheared_lattice.hpp"
 
 namespace capsim {
 

@@ -1,4 +1,4 @@
-#include "stokes/near_triangles.hpp"
+#include "stokes/quadrature/near_triangles.hpp"
 
 #include <algorithm>
 #include <cmath>

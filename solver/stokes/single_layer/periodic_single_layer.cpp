@@ -1,12 +1,12 @@
-#include "stokes/periodic_single_layer.hpp"
+#include "stokes/single_layer/periodic_single_layer.hpp"
 
-#include "stokes/ewald_reciprocal.hpp"
-#include "stokes/near_corrections.hpp"
-#include "stokes/near_triangle_cells.hpp"
-#include "stokes/pair_buffer.hpp"
-#include "stokes/periodic_cells.hpp"
-#include "stokes/real_space_sum.hpp"
-#include "stokes/triangle_sources.hpp"
+#include "stokes/ewald/ewald_reciprocal.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
+#include "stokes/quadrature/near_triangle_cells.hpp"
+#include "stokes/ewald/pair_buffer.hpp"
+#include "stokes/cells/periodic_cells.hpp"
+#include "stokes/ewald/real_space_sum.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
 
 #include <cmath>
 #include <omp.h>
