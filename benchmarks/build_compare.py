@@ -18,7 +18,6 @@ otherwise idle machine.
 """
 
 import argparse
-import json
 import sys
 import tempfile
 from pathlib import Path
@@ -29,7 +28,7 @@ from analysis.read_run import read_timeseries
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from precision_compare import run  # noqa: E402
-from step_profile import CAPSIM  # noqa: E402
+from step_profile import CAPSIM, print_json  # noqa: E402
 
 CASES = {3: 2.0, 4: 0.3}  # mesh level: strain units
 ORDER = ("old", "new", "new", "old")
@@ -80,11 +79,7 @@ def main():
                   f"{entry['cpu_ratio']:.3f}; differences " + ", ".join(
                       f"{k} {v:.1e}" for k, v in entry["difference"].items()),
                   file=sys.stderr, flush=True)
-    text = json.dumps(result, indent=1)
-    if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(text + "\n")
-    print(text)
+    print_json(result, args.out)
 
 
 if __name__ == "__main__":

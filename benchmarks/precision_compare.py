@@ -28,7 +28,7 @@ from analysis.read_run import read_summary, read_timeseries
 from analysis.rheology import rheology
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_profile import CAPSIM, CASE  # noqa: E402
+from step_profile import CAPSIM, CASE, print_json  # noqa: E402
 
 CASES = {3: 3.0, 4: 0.5}  # mesh level: strain units
 
@@ -52,14 +52,15 @@ def run(level, t_end, threads, out, capsim=CAPSIM, **options):
     avg = run_averages(read_timeseries(out), t_end / 2)
     mu = rheology(avg["stresslet"], CASE["phi"], CASE["ca"])["mu_sp"]
     mu_se = abs(mu / avg["stresslet"][0, 1]) * avg["stresslet_se"][0, 1]
-    seconds = json.loads(profile.read_text())["seconds"]
+    profiled = json.loads(profile.read_text())
+    seconds = profiled["seconds"]
     per = CASE["capsules"] * t_end
     return {"wall_s_per_capsule_strain": wall / per, "cpu_s_per_capsule_strain": cpu_s / per,
             "reciprocal_s": seconds["reciprocal"], "fft_s": seconds["fft"],
             "spreading_s": seconds["spreading"], "gathering_s": seconds["gathering"],
             "D": avg["D"], "D_se": float(avg["D_se"]), "mu_sp": float(mu),
             "mu_sp_se": float(mu_se), "tolerance": summary["parameters"]["ewald.tolerance"],
-            "seconds_per_step": json.loads(profile.read_text())["seconds_per_step"]}
+            "seconds_per_step": profiled["seconds_per_step"]}
 
 
 def velocity_error(level, tolerance, precision, threads, reference):
@@ -100,11 +101,7 @@ def main():
                   f"({entry['mu_sp_difference_in_se']:.2g} SE); velocity error "
                   f"{entry['velocity_error']['double']:.3g} / "
                   f"{entry['velocity_error']['single']:.3g}", file=sys.stderr)
-    text = json.dumps(result, indent=1)
-    if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(text + "\n")
-    print(text)
+    print_json(result, args.out)
 
 
 if __name__ == "__main__":

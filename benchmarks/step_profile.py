@@ -40,6 +40,15 @@ CASE = {"ca": 0.2, "phi": 0.3, "capsules": 27, "seed": 1, "ewald.tolerance": "au
 LEVELS = {3: 0.25, 4: 0.05}  # mesh level: t_end (about 12 and 5 steps)
 
 
+def print_json(result, out=None):
+    """Prints a benchmark's JSON, and writes it to `out` as well when given."""
+    text = json.dumps(result, indent=1)
+    if out:
+        Path(out).parent.mkdir(parents=True, exist_ok=True)
+        Path(out).write_text(text + "\n")
+    print(text)
+
+
 def profile_run(level, t_end, threads):
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(scratch) / "run"
@@ -116,11 +125,7 @@ def main():
             "rates": rates(profile, summary, level)}
     l3, l4 = (result["levels"][k]["seconds_per_step"] for k in (3, 4))
     result["growth_level3_to_4"] = {k: l4[k] / l3[k] for k in l3 if l3[k] > 0}
-    text = json.dumps(result, indent=1)
-    if args.out:
-        Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.out).write_text(text + "\n")
-    print(text)
+    print_json(result, args.out)
     print(f"{'stage':<24}{'l3 s/step':>11}{'share':>7}{'l4 s/step':>11}{'share':>7}"
           f"{'growth':>8}", file=sys.stderr)
     for k in l3:
