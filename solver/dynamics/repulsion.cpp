@@ -66,7 +66,8 @@ void add_repulsion_gradient(const ShearedLattice& g, int nodes_per_capsule,
   std::vector<Vec3> points(nodes.size());
   for (size_t k = 0; k < nodes.size(); ++k)
     points[k] = x[nodes[k]];
-  const PeriodicCells cells(g, r.range, points);
+  // A short range in a large box: far more cells than points, so they are searched.
+  const PeriodicCells cells(g, r.range, points, PeriodicCells::Index::search);
   std::vector<Vec3> sum(n);
   std::vector<char> near(n, 0);
   // Each node sums the forces of its own partners: every pair is visited from both

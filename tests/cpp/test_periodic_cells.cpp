@@ -1,6 +1,6 @@
+#include "stokes/cells/periodic_cells.hpp"
 #include "stokes/quadrature/near_triangle_cells.hpp"
 #include "stokes/quadrature/near_triangles.hpp"
-#include "stokes/cells/periodic_cells.hpp"
 
 #include <catch2/catch.hpp>
 #include <random>
@@ -11,8 +11,8 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
           "whatever the number of cells",
           "[cells]") {
   const double L = 7.0;
-  // 35, 16, 7 and 2 cells per side: the first two hold far more cells than points (the
-  // cells are then searched, not indexed); 9 > L needs a wider stencil.
+  // 35, 16, 7 and 2 cells per side (the first two far more cells than points); 9 > L
+  // needs a wider stencil.
   for (double reach : {0.6, 1.3, 3.0, 9.0}) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-3.0, 10.0); // also outside the primary cell
@@ -22,6 +22,7 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
     for (double strain : {0.0, 0.5, -0.37}) {
       ShearedLattice g = make_sheared_lattice(L, strain);
       PeriodicCells cells(g, reach, points);
+      PeriodicCells searched(g, reach, points, PeriodicCells::Index::search);
       for (int t = 0; t < 50; ++t) {
         // Half the queries beside a point, so that short reaches find neighbours too.
         Vec3 x =
@@ -44,6 +45,21 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
                 if (norm(r0 + lattice_point(g, n1, n2, n3)) < reach)
                   expected.push_back(int(i));
         }
+        // The searched index visits the same images in the same order (sums over them
+        // give the same bits).
+        std::vector<std::pair<int, Vec3>> in_table, in_search;
+        cells.for_neighbours(x, [&](int i, Vec3 image) {
+          in_table.push_back({i, image});
+        });
+        searched.for_neighbours(x, [&](int i, Vec3 image) {
+          in_search.push_back({i, image});
+        });
+        REQUIRE(in_search.size() == in_table.size());
+        for (size_t k = 0; k < in_table.size(); ++k)
+          CHECK((in_search[k].first == in_table[k].first &&
+                 in_search[k].second.x == in_table[k].second.x &&
+                 in_search[k].second.y == in_table[k].second.y &&
+                 in_search[k].second.z == in_table[k].second.z));
         std::sort(expected.begin(), expected.end());
         std::sort(found.begin(), found.end());
         CHECK(found == expected);

@@ -6,7 +6,7 @@
 namespace capsim {
 
 PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
-                             const std::vector<Vec3>& points)
+                             const std::vector<Vec3>& points, Index index)
     : g_(g), reach_(reach) {
   for (int a = 0; a < 3; ++a)
     // Cells a third of `reach` wide: the cells the sphere meets then hold about twice
@@ -24,7 +24,7 @@ PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
   }
   // Cell order: by cell, and within a cell by index (a stable counting sort).
   index_.resize(points.size());
-  if (cells > 4 * long(points.size())) {
+  if (index == Index::search) {
     for (size_t i = 0; i < points.size(); ++i)
       index_[i] = int(i);
     std::stable_sort(index_.begin(), index_.end(),

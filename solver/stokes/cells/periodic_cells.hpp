@@ -17,7 +17,14 @@ namespace capsim {
 
 class PeriodicCells {
 public:
-  PeriodicCells(const ShearedLattice& g, double reach, const std::vector<Vec3>& points);
+  // How a cell's points are found: a table of every cell's start (building it costs
+  // O(cells), each lookup O(1)), or a search of the points' cells in cell order (O(points
+  // log points) to build, O(log points) a lookup): for few points among very many cells,
+  // as the repulsion's short range in a large box. The order is the same.
+  enum class Index { table, search };
+
+  PeriodicCells(const ShearedLattice& g, double reach, const std::vector<Vec3>& points,
+                Index index = Index::table);
 
   // Calls visit(begin, end, shift) for runs [begin, end) of points in cell order
   // (`point(j)`, `wrapped(j)`) whose images wrapped(j) + shift cover the cells around x.
@@ -95,10 +102,7 @@ private:
   int half_rows_, half_layers_;    // rows (y) and layers (z) of cells within reach
   std::vector<Vec3> wrapped_;      // wrapped points in cell order
   std::vector<int> start_, index_; // cell c holds index_[start_[c] .. start_[c + 1])
-  // With far more cells than points (a short reach in a large box: the repulsion),
-  // start_ is left empty and the cell of each point in cell order is searched instead,
-  // so that building costs O(points), not O(cells). The order is the same.
-  std::vector<int> cell_of_;
+  std::vector<int> cell_of_;       // Index::search: the cell of each point in cell order
 };
 
 } // namespace capsim
