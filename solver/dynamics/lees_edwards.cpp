@@ -1,5 +1,6 @@
 #include "dynamics/lees_edwards.hpp"
 
+#include "dynamics/bounding_spheres.hpp"
 #include "mesh/surface_geometry.hpp"
 
 #include <algorithm>
@@ -42,10 +43,10 @@ std::vector<int> nodes_within(const Vec3* x, int n, Vec3 p, double r) {
 
 // The closest pair of nodes between capsule a and b's image shifted by `shift`, searched
 // only in the lens where each capsule reaches into the other's bounding sphere.
-double closest_pair(const Vec3* xa, const Vec3* xb, int nn, Vec3 centre_a, Vec3 centre_b,
-                    double radius_a, double radius_b, Vec3 shift, double reach) {
-  std::vector<int> ia = nodes_within(xa, nn, centre_b + shift, radius_b + reach);
-  std::vector<int> ib = nodes_within(xb, nn, centre_a - shift, radius_a + reach);
+double closest_pair(const Vec3* xa, const Vec3* xb, int nn, const Sphere& a,
+                    const Sphere& b, Vec3 shift, double reach) {
+  std::vector<int> ia = nodes_within(xa, nn, b.centre + shift, b.radius + reach);
+  std::vector<int> ib = nodes_within(xb, nn, a.centre - shift, a.radius + reach);
   double best = 1e300;
   for (int i : ia)
     for (int j : ib)
@@ -59,30 +60,24 @@ ClosestApproach closest_approach(const Topology& topo, int num_capsules,
                                  const ShearedLattice& g, const std::vector<Vec3>& x,
                                  double reach) {
   const int nn = topo.num_nodes;
-  std::vector<Vec3> centre(num_capsules);
-  std::vector<double> radius(num_capsules, 0.0);
-  for (int c = 0; c < num_capsules; ++c) {
-    centre[c] = volume_centroid(topo, &x[c * nn]);
-    for (int i = 0; i < nn; ++i)
-      radius[c] = std::max(radius[c], norm(x[c * nn + i] - centre[c]));
-  }
+  const std::vector<Sphere> s = bounding_spheres(nn, x);
   // Pairs whose bounding spheres come within reach, with the lattice shift that brings
   // b's image nearest to a.
   std::vector<ClosestApproach> pairs;
   std::vector<Vec3> shifts;
   for (int a = 0; a < num_capsules; ++a)
     for (int b = a + 1; b < num_capsules; ++b) {
-      Vec3 d = wrap_to_cell(g, centre[b] - centre[a]);
-      if (norm(d) > radius[a] + radius[b] + reach)
+      Vec3 d = wrap_to_cell(g, s[b].centre - s[a].centre);
+      if (norm(d) > s[a].radius + s[b].radius + reach)
         continue;
       pairs.push_back({1e300, a, b});
-      shifts.push_back((centre[a] + d) - centre[b]);
+      shifts.push_back((s[a].centre + d) - s[b].centre);
     }
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     const int a = pairs[p].capsule_a, b = pairs[p].capsule_b;
-    pairs[p].distance = closest_pair(&x[a * nn], &x[b * nn], nn, centre[a], centre[b],
-                                     radius[a], radius[b], shifts[p], reach);
+    pairs[p].distance =
+        closest_pair(&x[a * nn], &x[b * nn], nn, s[a], s[b], shifts[p], reach);
   }
   ClosestApproach best; // the first closest pair in (a, b) order, as a serial loop finds
   for (const ClosestApproach& p : pairs)

@@ -1,5 +1,6 @@
 #include "dynamics/repulsion.hpp"
 
+#include "dynamics/bounding_spheres.hpp"
 #include "stokes/cells/periodic_cells.hpp"
 
 #include <algorithm>
@@ -16,29 +17,20 @@ namespace {
 std::vector<int> nodes_near_others(const ShearedLattice& g, int nodes_per_capsule,
                                    const std::vector<Vec3>& x, double range) {
   const int n = int(x.size()), num_capsules = n / nodes_per_capsule;
-  std::vector<Vec3> centre(num_capsules);
-  std::vector<double> radius(num_capsules, 0.0);
-  for (int c = 0; c < num_capsules; ++c) {
-    Vec3 sum;
-    for (int i = 0; i < nodes_per_capsule; ++i)
-      sum += x[c * nodes_per_capsule + i];
-    centre[c] = (1.0 / nodes_per_capsule) * sum;
-    for (int i = 0; i < nodes_per_capsule; ++i)
-      radius[c] = std::max(radius[c], norm(x[c * nodes_per_capsule + i] - centre[c]));
-  }
+  const std::vector<Sphere> s = bounding_spheres(nodes_per_capsule, x);
   // Per capsule a: the image centres of other capsules whose spheres come within range.
   std::vector<std::vector<std::pair<Vec3, double>>> spheres(num_capsules);
   for (int a = 0; a < num_capsules; ++a)
     for (int b = 0; b < num_capsules; ++b) {
       if (a == b)
         continue;
-      const Vec3 d = wrap_to_cell(g, centre[b] - centre[a]);
+      const Vec3 d = wrap_to_cell(g, s[b].centre - s[a].centre);
       for (int n1 = -1; n1 <= 1; ++n1)
         for (int n2 = -1; n2 <= 1; ++n2)
           for (int n3 = -1; n3 <= 1; ++n3) {
-            const Vec3 image = centre[a] + d + lattice_point(g, n1, n2, n3);
-            if (norm(image - centre[a]) <= radius[a] + radius[b] + range)
-              spheres[a].push_back({image, radius[b] + range});
+            const Vec3 image = s[a].centre + d + lattice_point(g, n1, n2, n3);
+            if (norm(image - s[a].centre) <= s[a].radius + s[b].radius + range)
+              spheres[a].push_back({image, s[b].radius + range});
           }
     }
   std::vector<int> near;
