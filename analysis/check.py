@@ -21,8 +21,8 @@ Standard errors: where the checked value is a time average (its row has a standa
 column, analysis.statistics) or the expected value comes from a run with a known standard
 error, `se_column` and `value_se` give them. The difference of two independent averages
 then has the standard error se = sqrt(se_column^2 + value_se^2), and the value passes
-within max(tolerance, k se): the tolerance (rel_tol/abs_tol) stays the bound where it is
-the wider (it budgets the systematic differences, mesh and box, and in the suspension
+within max(tolerance, k se) (analysis.verdict, the paper comparison's rule too): the
+tolerance (rel_tol/abs_tol) stays the bound where it is the wider (it budgets the systematic differences, mesh and box, and in the suspension
 expectations already the statistical spread: adding k se on top would count the
 statistics twice), and k se takes over where the run is noisier than the tolerance
 assumed, so a check does not fail on noise alone. k is the file's top-level `k`
@@ -38,7 +38,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from analysis.tables import read_table, read_yaml_list, select
+from analysis.tables import read_yaml_list, select
+from analysis.verdict import Missing, Results, at_least, at_most, band, within
 
 SOURCES = ("analytic", "paper", "reference-run")
 # A difference beyond 3 standard errors has a chance of 0.3 % for a Gaussian estimate (2.7
@@ -80,12 +81,14 @@ def load_expectations(path):
 
 
 def check_one(e, results):
-    """(ok, message) for one expectation against the CSVs under `results`."""
-    path = Path(results) / e["file"]
+    """(ok, message) for one expectation against the tables of `results`
+    (analysis.verdict.Results)."""
+    path = results.folder / e["file"]
     label = f"{e['id']} [{e['source']}: {e['provenance']}]"
-    if not path.exists():
+    try:
+        rows = select(results.table(e["file"]), **e["where"])
+    except Missing:
         return False, f"FAIL {label}: {path} does not exist"
-    rows = select(read_table(path), **e["where"])
     if len(rows) != 1:
         return False, (f"FAIL {label}: {len(rows)} rows of {path} match {e['where']} "
                        "(need exactly one)")
@@ -96,7 +99,7 @@ def check_one(e, results):
     if e.get("value") is not None:
         want = float(e["value"])
         tol = max(float(e.get("abs_tol", 0.0)), float(e.get("rel_tol", 0.0)) * abs(want))
-        stat = ""
+        se, k, stat = 0.0, 0.0, ""
         if "se_column" in e or "value_se" in e:
             se_got = rows.iloc[0].get(e["se_column"]) if "se_column" in e else 0.0
             if not pd.api.types.is_number(se_got) or isinstance(se_got, bool) \
@@ -105,14 +108,13 @@ def check_one(e, results):
                                f"'{se_got}', not a number")
             se = math.hypot(float(se_got), float(e.get("value_se", 0.0)))
             k = e.get("_k", K_STANDARD_ERRORS)
-            tol = max(tol, k * se)
             stat = f"; {k:g} SE = {k * se:.3g}, SE {se:.3g}"
-        ok = abs(got - want) <= tol
-        detail = (f"{e['column']} = {got:.6g}, expected {want:.6g} +- {tol:.3g} "
+        ok = within(got, want, tol, se, k)
+        detail = (f"{e['column']} = {got:.6g}, expected {want:.6g} +- {band(tol, se, k):.3g} "
                   f"(off by {got - want:+.3g}{stat})")
     else:
         lo, hi = float(e.get("min", -math.inf)), float(e.get("max", math.inf))
-        ok = lo <= got <= hi
+        ok = at_least(got, lo) and at_most(got, hi)
         detail = f"{e['column']} = {got:.6g}, expected in [{lo:.6g}, {hi:.6g}]"
     where = ", ".join(f"{k}={v}" for k, v in e["where"].items())
     return ok, f"{'ok  ' if ok else 'FAIL'} {label}: {e['file']} ({where}): {detail}"
@@ -121,9 +123,10 @@ def check_one(e, results):
 def run_checks(expectation_files, results):
     """All expectations of all files: (number failed, report lines)."""
     lines, failed = [], 0
+    tables = Results(results)
     for path in expectation_files:
         for e in load_expectations(path):
-            ok, message = check_one(e, results)
+            ok, message = check_one(e, tables)
             failed += not ok
             lines.append(message)
     return failed, lines

@@ -22,7 +22,8 @@ Computations (`ours.computation`), all on the CSVs under the results folder:
 - change:     y(to) - y(from) of `column` in the grid table at one Ca (`where`), each end a
               phi (a number, `min` or `max` over phi > 0) or `dilute` (the dilute run of the
               grid, phi = 0); `relative: true` gives y(to) / y(from) - 1.
-- ca_change:  the same along Ca in a table of coefficients (figures 5, 7: panel b, d):
+- ca_change:  the same along Ca in the table of coefficients (grid/fits.csv,
+              analysis.coefficients):
               c(largest Ca) - c(smallest Ca), or relative.
 - faster_fall: relative change of `column` minus that of `than` from the smallest to the
               largest Ca (negative: `column` falls faster).
@@ -53,16 +54,12 @@ import numpy as np
 import pandas as pd
 
 from analysis.statistics import mean_of_runs_standard_error, propagated_standard_error
-from analysis.tables import (markdown_table, read_table, read_yaml_list, select, with_data,
-                             write_table)
+from analysis.tables import markdown_table, read_yaml_list, select, with_data, write_table
+from analysis.verdict import Missing, Results, at_most, within
 
 K_COMBINED = 2.0  # the agreement band: 2 combined standard errors (95 % for a Gaussian)
 KINDS = ("value", "sign", "max")
 NOT_HERE = "not in this configuration"
-
-
-class Missing(Exception):
-    """What this configuration lacks for a number (a Ca, a phi, a mesh, a file)."""
 
 
 class NumbersError(ValueError):
@@ -70,22 +67,6 @@ class NumbersError(ValueError):
 
 
 # ---------------------------------------------------------------- reading the tables
-
-
-class Results:
-    """The CSV tables of one results folder, read once each."""
-
-    def __init__(self, folder):
-        self.folder = Path(folder)
-        self._tables = {}
-
-    def table(self, name):
-        if name not in self._tables:
-            path = self.folder / name
-            if not path.exists():
-                raise Missing(f"no {name}")
-            self._tables[name] = read_table(path)
-        return self._tables[name]
 
 
 def _where_text(where):
@@ -217,8 +198,6 @@ def comp_change(res, spec):
 
 def _by_ca(res, spec):
     rows = select(res.table(spec["file"]), **spec.get("where", {}))
-    if "series" in rows and "series" not in spec.get("where", {}):
-        rows = rows[rows["series"].isna()]  # a reference curve (rigid spheres), not a Ca
     rows = rows[pd.to_numeric(rows.get(spec["column"]), errors="coerce").notna()] \
         if spec["column"] in rows else rows.iloc[:0]
     if len(rows) < 2:
@@ -418,15 +397,14 @@ def verdict(number, value, se):
     if kind == "value":
         paper, paper_se = float(number["value"]), float(number["error"])
         band = math.hypot(se, paper_se)
+        word = "agrees" if within(value, paper, se=band, k=K_COMBINED) else "differs"
         off = value - paper
         if band == 0:
-            return ("agrees" if off == 0 else "differs"), f"off by {off:+.3g}"
-        z = off / band
-        word = "agrees" if abs(off) <= K_COMBINED * band else "differs"
-        return word, f"off by {off:+.3g} = {z:+.1f} combined SE"
+            return word, f"off by {off:+.3g}"
+        return word, f"off by {off:+.3g} = {off / band:+.1f} combined SE"
     if kind == "max":
         bound = float(number["value"])
-        word = "agrees" if value - K_COMBINED * se <= bound else "differs"
+        word = "agrees" if at_most(value, bound, se, K_COMBINED) else "differs"
         return word, f"{value:.3g} against at most {bound:g}"
     want = 1.0 if number["sign"] == "+" else -1.0
     if se == 0:

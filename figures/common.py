@@ -1,5 +1,5 @@
 """Shared plumbing of the figure scripts: style, arguments, the grid table split into
-dilute and suspension rows, the section 4.2 coefficients per Ca and their standard errors,
+dilute and suspension rows, the section 4.2 coefficients per Ca read from their table,
 markers with error bars, and saving a figure with its data (PNG, PDF, CSV) and a footer
 that states the reductions of the runs it shows."""
 
@@ -14,10 +14,9 @@ import matplotlib.pyplot as plt  # noqa: E402,F401 (after the style and backend 
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from analysis import fits  # noqa: E402
+from analysis import coefficients, fits  # noqa: E402
 from analysis.membrane import PAPER as PAPER_MEMBRANE  # noqa: E402
-from analysis.statistics import propagated_standard_error  # noqa: E402
-from analysis.tables import read_table, with_data, write_table  # noqa: E402
+from analysis.tables import read_table, write_table  # noqa: E402
 
 # The line of a caption that says what the error bars are (docs/workflow.md).
 ERROR_BARS = ("Bars: standard error of the time average, from the integrated "
@@ -30,8 +29,6 @@ def parse_args(description):
     ap.add_argument("--out", required=True, help="output stem: writes STEM.png/.pdf/.csv")
     ap.add_argument("--t-start", type=float, default=10.0,
                     help="start t_s of the time averages (paper: 10)")
-    ap.add_argument("--fit-phi-max", type=float, default=fits.FIT_PHI_MAX,
-                    help="fitting range of a2, b2 (paper: 0.10)")
     ap.add_argument("--phi-m", type=float, default=fits.PHI_RANDOM_CLOSE,
                     help="maximum packing of the Krieger-Dougherty curve (paper: 0.63)")
     ap.add_argument("--images", default="xy", choices=["none", "xy", "all"],
@@ -139,52 +136,18 @@ def grid_rows(path):
     """The grid table (a DataFrame) and its rows with data split: (all rows, dilute row by
     Ca, suspension rows by Ca sorted by phi)."""
     rows = read_table(path)
-    runs = with_data(rows)
-    dilute = {row["ca"]: row for _, row in runs[runs["intrinsic"] != 0].iterrows()}
-    susp = {ca: group.sort_values("phi", kind="stable")
-            for ca, group in runs[runs["intrinsic"] == 0].groupby("ca")}
-    return rows, dilute, susp
+    return (rows, *coefficients.split_grid(rows))
 
 
-def coefficients(dilute, susp, key, phi_max):
-    """(c1, c2) per Ca for mu_sp (key "mu_sp": a1, a2) or N1 ("N1": b1, b2), section 4.2:
-    c1 the dilute-limit intrinsic value, c2 the least-squares fit of (y - c1 phi) = c2 phi^2
-    over 0 <= phi <= phi_max. c2 is NaN when no phi lies in the range."""
-    out = {}
-    for ca, rows in susp.items():
-        if ca not in dilute:
-            continue
-        c1 = dilute[ca][key]
-        try:
-            c2 = fits.second_coefficient(rows["phi"], rows[key], c1, phi_max)
-        except ValueError:
-            c2 = float("nan")
-        out[ca] = (c1, c2)
-    return out
-
-
-def coefficient_errors(dilute, susp, key, phi_max):
-    """Standard errors (c1_se, c2_se) per Ca of the coefficients of `coefficients`: c1's
-    is the dilute run's (key + "_se"); c2 is linear in c1 and in the fitted values, so its
-    error follows from theirs (analysis.statistics.propagated_standard_error)."""
-    out = {}
-    for ca, rows in susp.items():
-        if ca not in dilute:
-            continue
-        c1, c1_se = dilute[ca][key], dilute[ca][key + "_se"]
-        phi = rows["phi"].to_numpy(dtype=float)
-
-        def second(v):
-            return fits.second_coefficient(phi, v[1:], v[0], phi_max)
-
-        try:
-            c2_se = propagated_standard_error(
-                second, np.concatenate([[c1], rows[key]]),
-                np.concatenate([[c1_se], rows[key + "_se"]]))
-        except ValueError:
-            c2_se = float("nan")
-        out[ca] = (float(c1_se), float(c2_se))
-    return out
+def coefficient_inputs(args, key):
+    """The grid table and the section 4.2 coefficients of `key` (results/grid/fits.csv,
+    analysis.coefficients) of a figure given both (inputs: TABLE FITS): (rows, dilute,
+    susp, {ca: (c1, c2)}, {ca: (c1_se, c2_se)}, the fitting range)."""
+    if len(args.inputs) != 2:
+        raise SystemExit("usage: the grid table and its coefficient table "
+                         "(results/grid/table.csv results/grid/fits.csv)")
+    return (*grid_rows(args.inputs[0]),
+            *coefficients.read_coefficients(args.inputs[1], key))
 
 
 def points(ax, x, y, yerr=None, xerr=None, fmt="o", **style):

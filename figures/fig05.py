@@ -5,6 +5,7 @@ eq. 4.6 against Ca, with the rigid-sphere values of eq. 4.8. Bars: standard erro
 time averages, and of a1, a2 propagated from them.
 
 Usage: python figures/fig05.py --out results/figures/fig05 results/grid/table.csv
+       results/grid/fits.csv
 """
 
 import numpy as np
@@ -14,9 +15,7 @@ from analysis import fits
 
 
 def polynomial_figure(args, key, c_names, ylabel, number, rigid):
-    rows, dilute, susp = common.grid_rows(args.inputs[0])
-    coef = common.coefficients(dilute, susp, key, args.fit_phi_max)
-    coef_se = common.coefficient_errors(dilute, susp, key, args.fit_phi_max)
+    rows, dilute, susp, coef, coef_se, phi_max = common.coefficient_inputs(args, key)
     col = common.colors(coef)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
@@ -50,7 +49,7 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     ax_b.legend()
     caption = (f"Figure {number}. (a) {ylabel} against phi; grey dotted: "
                f"{c_names[0]} phi + {c_names[1]} phi^2. (b) {c_names[0]} from the dilute limit, "
-               f"{c_names[1]} by least squares over 0 <= phi <= {args.fit_phi_max:g}. "
+               f"{c_names[1]} by least squares over 0 <= phi <= {phi_max:g}. "
                + common.ERROR_BARS + f"; those of {c_names[0]}, {c_names[1]} propagated "
                "from them. " + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)

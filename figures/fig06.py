@@ -3,6 +3,7 @@ Ca, with the rigid-sphere (Krieger-Dougherty) ratios; 1 - (b) is the O(phi^3) sh
 standard errors propagated from those of the time averages (the values and a1, a2).
 
 Usage: python figures/fig06.py --out results/figures/fig06 results/grid/table.csv
+       results/grid/fits.csv
 """
 
 import numpy as np
@@ -16,8 +17,11 @@ def share_errors(phi, values, errors, first, first_se, phi_max):
     """Standard errors of the first and second shares of fits.order_shares at every phi:
     the shares depend on c1, on the value at that phi and, through c2 (fitted over
     phi <= phi_max), on the values in the fitting range; all are independent averages.
-    The O(phi^3) share has the second's error."""
+    The O(phi^3) share has the second's error; without a phi in the fitting range (no
+    c2) the errors are NaN."""
     n = len(phi)
+    if not np.any((phi > 0) & (phi <= phi_max + 1e-12)):
+        return np.full(n, np.nan), np.full(n, np.nan)
 
     def shares(v):
         c2 = fits.second_coefficient(phi, v[1:], v[0], phi_max)
@@ -29,9 +33,7 @@ def share_errors(phi, values, errors, first, first_se, phi_max):
 
 
 def share_figure(args, key, names, number, rigid):
-    rows, dilute, susp = common.grid_rows(args.inputs[0])
-    coef = common.coefficients(dilute, susp, key, args.fit_phi_max)
-    coef_se = common.coefficient_errors(dilute, susp, key, args.fit_phi_max)
+    rows, dilute, susp, coef, coef_se, phi_max = common.coefficient_inputs(args, key)
     col = common.colors(coef)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
@@ -39,7 +41,7 @@ def share_figure(args, key, names, number, rigid):
         phi, y = susp[ca]["phi"].to_numpy(), susp[ca][key].to_numpy()
         first, second, higher = fits.order_shares(phi, y, c1, c2)
         first_se, second_se = share_errors(phi, y, susp[ca][key + "_se"].to_numpy(), c1,
-                                           coef_se[ca][0], args.fit_phi_max)
+                                           coef_se[ca][0], phi_max)
         common.points(ax_a, phi, first, first_se, fmt="o-", color=col[ca],
                       label=f"Ca = {ca:g}")
         common.points(ax_b, phi, second, second_se, fmt="o-", color=col[ca],
@@ -63,7 +65,7 @@ def share_figure(args, key, names, number, rigid):
     ax_b.set(xlabel=r"$\phi$", ylabel=names[1], title="(b)", ylim=(0, 1.1))
     ax_a.legend()
     caption = (f"Figure {number}. Ratios {names[0]} and {names[1]}; the O(phi^3) share is "
-               f"1 - (b). Fitting range 0 <= phi <= {args.fit_phi_max:g}. "
+               f"1 - (b). Fitting range 0 <= phi <= {phi_max:g}. "
                "Bars: standard errors propagated from those of the time averages (the "
                "values and the coefficients; from the integrated autocorrelation time, "
                "docs/conventions.md); 1 - (b) has the error of (b). "

@@ -4,6 +4,7 @@ each phi; (c) N1 against phi for each Ca with b1 phi + b2 phi^2; (d) the coeffic
 standard errors of the time averages, and of b1, b2 propagated from them.
 
 Usage: python figures/fig07.py --out results/figures/fig07 results/grid/table.csv
+       results/grid/fits.csv
 """
 
 import numpy as np
@@ -12,9 +13,7 @@ import common
 
 
 def main(args):
-    rows, dilute, susp = common.grid_rows(args.inputs[0])
-    coef = common.coefficients(dilute, susp, "N1", args.fit_phi_max)
-    coef_se = common.coefficient_errors(dilute, susp, "N1", args.fit_phi_max)
+    rows, dilute, susp, coef, coef_se, phi_max = common.coefficient_inputs(args, "N1")
     fig, axes = common.plt.subplots(2, 2, figsize=(7.0, 5.6))
     (ax_a, ax_b), (ax_c, ax_d) = axes
     data = []
@@ -48,7 +47,7 @@ def main(args):
         ax.legend()
     fig.tight_layout()
     caption = ("Figure 7. Normal stress differences; grey dotted in (c): b1 phi + b2 phi^2, "
-               f"b2 fitted over 0 <= phi <= {args.fit_phi_max:g}. " + common.ERROR_BARS
+               f"b2 fitted over 0 <= phi <= {phi_max:g}. " + common.ERROR_BARS
                + "; those of b1, b2 propagated from them. "
                + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)

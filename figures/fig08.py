@@ -3,6 +3,7 @@
 time averages.
 
 Usage: python figures/fig08.py --out results/figures/fig08 results/grid/table.csv
+       results/grid/fits.csv
 """
 
 import common

@@ -4,11 +4,13 @@ against phi for each Ca. Bars: standard errors of the ratios, from those of the 
 averages of the suspension and of the dilute run.
 
 Usage: python figures/fig10.py --out results/figures/fig10 results/grid/table.csv
+       results/grid/fits.csv
 """
 
 import numpy as np
 
 import common
+from analysis import coefficients
 from analysis.statistics import propagated_standard_error
 
 PANELS = [("S12", r"$\langle S_{12}\rangle/S_{12}^{sol}$", "mu_sp"),
@@ -20,13 +22,15 @@ PANELS = [("S12", r"$\langle S_{12}\rangle/S_{12}^{sol}$", "mu_sp"),
 
 def main(args):
     rows, dilute, susp = common.grid_rows(args.inputs[0])
+    coefs = {key: coefficients.read_coefficients(args.inputs[1], key)[0]
+             for key in coefficients.NAMES}
     col = common.colors(susp)
     fig, axes = common.plt.subplots(2, 3, figsize=(9.0, 5.6))
     axes.flat[-1].axis("off")
     data = []
     smooth = np.linspace(0, rows["phi"].max(), 40)
     for ax, (key, label, coef_key), letter in zip(axes.flat, PANELS, "abcde"):
-        coef = common.coefficients(dilute, susp, coef_key, args.fit_phi_max) if coef_key else {}
+        coef = coefs.get(coef_key, {})
         for ca, runs in sorted(susp.items()):
             if ca not in dilute:
                 continue

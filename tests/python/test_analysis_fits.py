@@ -1,12 +1,14 @@
-"""analysis.fits and analysis.rheology on synthetic data with known answers."""
+"""analysis.fits, analysis.coefficients and analysis.rheology on synthetic data with known
+answers."""
 
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy import stats
 
-from analysis import fits
+from analysis import coefficients, fits
 from analysis.rheology import box_side, rheology, stress_factor
 
 
@@ -163,3 +165,30 @@ def test_stress_factor_analytic_values():
     assert stress_factor(4 * math.pi / 30, 0.1) == pytest.approx(1.0, rel=1e-15)
     assert stress_factor(0.0, 0.75 / math.pi) == pytest.approx(1.0, rel=1e-15)
     assert stress_factor(0.2, 0.75 / math.pi) == pytest.approx(0.2, rel=1e-15)
+
+
+def test_coefficient_table_from_a_grid_table():
+    # Two Ca, each with its dilute row (intrinsic values a1, b1) and exact quadratics over
+    # phi; a run stopped before its window (count 0) and a Ca without a dilute run are left
+    # out.
+    rows = []
+    for ca, (a1, a2, b1, b2) in {0.1: (2.3, 4.0, 1.2, 3.0), 0.6: (1.6, 1.0, 2.5, 2.0)}.items():
+        rows.append({"ca": ca, "phi": 0.0, "intrinsic": 1, "count": 10, "mu_sp": a1,
+                     "mu_sp_se": 0.01, "N1": b1, "N1_se": 0.02})
+        for phi in (0.05, 0.1, 0.2):
+            rows.append({"ca": ca, "phi": phi, "intrinsic": 0, "count": 10,
+                         "mu_sp": a1 * phi + a2 * phi**2, "mu_sp_se": 0.01,
+                         "N1": b1 * phi + b2 * phi**2, "N1_se": 0.02})
+    rows.append({"ca": 0.1, "phi": 0.1, "intrinsic": 0, "count": 0, "mu_sp": math.nan,
+                 "mu_sp_se": math.nan, "N1": math.nan, "N1_se": math.nan})
+    rows.append({"ca": 0.3, "phi": 0.1, "intrinsic": 0, "count": 10, "mu_sp": 1.0,
+                 "mu_sp_se": 0.01, "N1": 1.0, "N1_se": 0.01})
+    table = coefficients.coefficient_table(pd.DataFrame(rows), phi_max=0.1)
+    assert list(table["ca"]) == [0.1, 0.6]
+    (row,) = table[table["ca"] == 0.6].to_dict("records")
+    assert (row["a1"], row["a2"], row["b1"], row["b2"]) == pytest.approx((1.6, 1.0, 2.5, 2.0))
+    assert row["a1_se"] == 0.01 and row["phi_max"] == 0.1
+    # a2 = sum(p^2 (y - a1 p)) / sum(p^4) over p = 0.05, 0.1: linear in the values and a1.
+    p = np.array([0.05, 0.1])
+    want = math.sqrt(0.01**2 * np.sum(p**4) + (0.01 * np.sum(p**3)) ** 2) / np.sum(p**4)
+    assert row["a2_se"] == pytest.approx(want)

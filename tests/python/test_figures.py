@@ -61,8 +61,18 @@ def grid_table(tmp_path_factory):
     return path
 
 
+COEFFICIENT_FIGURES = ("fig05", "fig06", "fig07", "fig08", "fig10")  # read results/grid/fits.csv
+
+
 def run_figure(name, out_dir, *inputs):
+    """Run one figure script as the workflow does; a figure drawn with the section 4.2
+    coefficients is given the grid table and its coefficient table (analysis.coefficients)."""
     out = out_dir / name
+    if name in COEFFICIENT_FIGURES and len(inputs) == 1:
+        fits_table = out_dir / f"{name}_fits.csv"
+        subprocess.run([sys.executable, "-m", "analysis.coefficients", "--out",
+                        str(fits_table), str(inputs[0])], check=True, cwd=ROOT)
+        inputs = (*inputs, fits_table)
     subprocess.run([sys.executable, str(ROOT / "figures" / f"{name}.py"), "--out", str(out),
                     *map(str, inputs)], check=True, capture_output=True, text=True)
     for ext in ("png", "pdf", "csv"):
@@ -154,6 +164,21 @@ def test_fig05_a2_standard_error_propagates_the_fit(grid_table, tmp_path):
     want = SE * math.sqrt(np.sum(p**4) + np.sum(p**3) ** 2) / s4
     (row,) = select(rows, panel="b", ca=0.1).to_dict("records")
     assert row["a1_se"] == SE and row["a2_se"] == pytest.approx(want)
+
+
+def test_coefficients_without_a_phi_in_the_fitting_range(tmp_path):
+    # A Ca whose suspension runs all lie above phi_max has a1 but no a2, b2: NaN in the
+    # table, and the figures still draw it (figure 6 without the share errors).
+    rows = [synthetic_row(ca, phi) for ca in CAS for phi in [0.0] + PHIS]
+    rows = [r for r in rows if not (r["ca"] == CAS[1] and 0 < r["phi"] <= 0.1)]
+    path = tmp_path / "table.csv"
+    write_table(path, rows, COLUMNS)
+    out = run_figure("fig05", tmp_path, path)
+    (row,) = select(out, panel="b", ca=CAS[1]).to_dict("records")
+    assert row["a1"] == pytest.approx(a_coef(CAS[1])[0]) and math.isnan(row["a2"])
+    shares = run_figure("fig06", tmp_path, path)
+    assert select(shares, ca=CAS[1])["first_share_se"].isna().all()
+    assert select(shares, ca=CAS[0])["first_share_se"].notna().all()
 
 
 def test_fig10_ratio_standard_error(grid_table, tmp_path):

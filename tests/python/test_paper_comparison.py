@@ -41,10 +41,9 @@ def results(tmp_path):
         {"N_E": 320, "label": "320 (average): reference", "seed": "mean", "D": 0.375,
          "D_se": 0.0014, "D_std": 0.005, "mu_sp": 0.81, "mu_sp_se": 0.007, "mu_sp_std": 0.01}])
     write_table(tmp_path / "mesh" / "table.csv", [{"ca": 0.2, "phi": 0.3, "seed": 1}])
-    write_table(tmp_path / "figures" / "fig05.csv", [
-        {"panel": "b", "ca": 0.1, "a1": 2.3, "a1_se": 0.01, "a2": 2.7, "a2_se": 0.2},
-        {"panel": "b", "ca": 0.6, "a1": 1.6, "a1_se": 0.01, "a2": 0.1, "a2_se": 0.2},
-        {"panel": "b", "ca": 0.0, "series": "krieger-dougherty", "a1": 2.5, "a2": 5.1}])
+    write_table(tmp_path / "grid" / "fits.csv", [
+        {"ca": 0.6, "phi_max": 0.1, "a1": 1.6, "a1_se": 0.01, "a2": 0.1, "a2_se": 0.2},
+        {"ca": 0.1, "phi_max": 0.1, "a1": 2.3, "a1_se": 0.01, "a2": 2.7, "a2_se": 0.2}])
     write_table(tmp_path / "figures" / "fig11.csv", [
         {"seed": 1, "t_e": 12.0, "D": 0.37}, {"seed": 2, "t_e": 12.0, "D": 0.38},
         {"seed": "mean", "t_e": 12.0, "D": 0.375, "D_std": 0.005, "D_se": 0.002, "cases": 3},
@@ -105,14 +104,13 @@ def test_change_between_the_smallest_and_largest_phi(results):
 
 
 def test_coefficients_along_ca(results):
-    # The Krieger-Dougherty row of panel b (a "series", at ca 0) is not a capsule's Ca.
-    value, se, context = pc.comp_ca_change(results, {"file": "figures/fig05.csv",
-                                                     "where": {"panel": "b"}, "column": "a1"})
+    # From the smallest to the largest Ca, whatever the table's order.
+    value, se, context = pc.comp_ca_change(results, {"file": "grid/fits.csv",
+                                                     "column": "a1"})
     assert context == "Ca 0.1 to 0.6"
     assert value == pytest.approx(-0.7) and se == pytest.approx(math.hypot(0.01, 0.01))
     fall, fall_se, _ = pc.comp_faster_fall(
-        results, {"file": "figures/fig05.csv", "where": {"panel": "b"}, "column": "a2",
-                  "than": "a1"})
+        results, {"file": "grid/fits.csv", "column": "a2", "than": "a1"})
     assert fall == pytest.approx((0.1 / 2.7 - 1) - (1.6 / 2.3 - 1))
     assert fall_se > 0
 

@@ -5,6 +5,7 @@ rule check:
     input:
         FIGURE_OUTPUTS,
         "results/dilute/table.csv",
+        "results/grid/fits.csv",
         code=analysis_module("check"),
         expected=[os.path.join(ROOT, f) for f in config["check"]["expected"]],
     output:

@@ -1,17 +1,18 @@
 # One script per figure (figures/figNN.py) and one for Table 1 (figures/table1.py). Each
 # writes results/figures/<name>.png, .pdf and the plotted data as .csv; table1 writes .md
 # and .csv. The scripts read only the tables and run folders named here.
+GRID_WITH_FITS = ["results/grid/table.csv", "results/grid/fits.csv"]
 FIGURE_INPUTS = {
     "fig01": multipole_tables,
     "fig02": lambda: study_runs("snapshots"),
     "fig03": lambda: ["results/grid/table.csv"],
     "fig04": lambda: ["results/grid/table.csv"],
-    "fig05": lambda: ["results/grid/table.csv"],
-    "fig06": lambda: ["results/grid/table.csv"],
-    "fig07": lambda: ["results/grid/table.csv"],
-    "fig08": lambda: ["results/grid/table.csv"],
+    "fig05": lambda: GRID_WITH_FITS,
+    "fig06": lambda: GRID_WITH_FITS,
+    "fig07": lambda: GRID_WITH_FITS,
+    "fig08": lambda: GRID_WITH_FITS,
     "fig09": lambda: ["results/grid/table.csv"],
-    "fig10": lambda: ["results/grid/table.csv"],
+    "fig10": lambda: GRID_WITH_FITS,
     "fig11": lambda: study_runs("initial"),
     "fig12": lambda: ["results/boxsize/table.csv"],
 }
@@ -19,9 +20,26 @@ FIGURE_OUTPUTS = expand("results/figures/{name}.{ext}", name=FIGURE_INPUTS,
                         ext=["png", "pdf", "csv"]) + ["results/figures/table1.md",
                                                      "results/figures/table1.csv"]
 FIGURE_OPTIONS = (f"--t-start {config['averages']['t_start']} "
-                  f"--fit-phi-max {config['figures']['fit_phi_max']} "
                   f"--phi-m {config['figures']['phi_m']} "
                   f"--images {config['figures']['snapshot_images']}")
+
+
+# The coefficients of section 4.2 per Ca (a1, a2, b1, b2 with their standard errors): one
+# table that figures 5-8 and 10 and the paper comparison read (analysis/coefficients.py).
+rule coefficients:
+    input:
+        table="results/grid/table.csv",
+        code=analysis_module("coefficients"),
+    output:
+        "results/grid/fits.csv",
+    log:
+        "results/logs/figures/coefficients.log",
+    params:
+        python=PYTHON,
+        phi_max=config["figures"]["fit_phi_max"],
+    shell:
+        "{params.python} -m analysis.coefficients --phi-max {params.phi_max} "
+        "--out {output} {input.table} > {log} 2>&1"
 
 
 # A script, the modules it imports and the style are inputs: editing one redraws the
@@ -72,7 +90,7 @@ rule table1:
 # column is labelled with the configuration files of this run. A second column from
 # another results folder: `python -m analysis.paper_comparison ... --other DIR`.
 COMPARISON_INPUTS = ["results/dilute/table.csv", "results/grid/table.csv",
-                     "results/mesh/table.csv"] + [
+                     "results/grid/fits.csv", "results/mesh/table.csv"] + [
     f"results/figures/{name}.csv"
     for name in ("table1", "fig01", "fig05", "fig06", "fig07", "fig08", "fig09", "fig10", "fig11")]
 COMPARISON_OUTPUTS = ["results/figures/paper_comparison.md",
