@@ -32,6 +32,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from analysis.read_run import read_summary, read_timeseries  # noqa: E402
+from pipeline.command_line import run_command  # noqa: E402
 
 SUSPENSION = {"ca": 0.2, "phi": 0.3, "seed": 1, "ewald.tolerance": "auto",
               "dt_safety": 1, "time.scheme": "heun", "output.snapshot_interval": 0}
@@ -47,12 +48,11 @@ SERIES = ("D", "stresslet", "centroid")
 def run(capsim, options, backend, threads, scratch):
     out = Path(scratch) / backend
     profile = out.with_suffix(".json")
-    sets = [f"--set={k}={v}" for k, v in {
-        **options, "t_avg_start": 0, "threads": threads, "backend": backend,
-        "output.checkpoint_interval": options["t_end"]}.items()]
+    settings = {**options, "t_avg_start": 0, "threads": threads, "backend": backend,
+                "output.checkpoint_interval": options["t_end"]}
     start = time.perf_counter()
-    subprocess.run([str(capsim), "run", "-q", *sets, "-o", str(out), "--profile",
-                    str(profile)], check=True, env={"OMP_WAIT_POLICY": "passive", **os.environ})
+    subprocess.run(run_command(capsim, settings, out, "-q", "--profile", str(profile)),
+                   check=True, env={"OMP_WAIT_POLICY": "passive", **os.environ})
     return {"wall_s": time.perf_counter() - start, "profile": json.loads(profile.read_text()),
             "summary": read_summary(out), "series": read_timeseries(out)}
 

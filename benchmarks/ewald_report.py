@@ -26,6 +26,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis.tables import markdown_table  # noqa: E402
+from pipeline.command_line import run_command  # noqa: E402
+from pipeline.run_spec import RunSpec  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUT = ROOT / "results" / "benchmarks"
@@ -140,16 +142,23 @@ def scaling(level, tolerance=1e-4):
                 "seconds per evaluation (2 cores)", f"level {level}, phi 0.3, slope {slope:.2f}")
 
 
+def step_run_spec(capsules, level, method, steps, tolerance):
+    """A run of `steps` RK2 steps near the automatic dt, at Ca 0.2 and phi 0.3."""
+    dt = 0.5 * 0.2 * {1: 0.62, 2: 0.31, 3: 0.155, 4: 0.078}[level]  # near the auto dt
+    options = {"method": method, "ewald.tolerance": tolerance, "dt": dt}
+    return RunSpec(study="benchmarks", ca=0.2, level=level, t_end=steps * dt,
+                   t_avg_start=0, phi=0.3, M=capsules, snapshot_interval=0,
+                   options=tuple(sorted(options.items())),
+                   label=f"step_run_M{capsules}_L{level}_{method}_{steps}")
+
+
 def run_wall_seconds(capsules, level, method, steps, tolerance):
     """Wall seconds of a `capsim run` of `steps` RK2 steps (setup included)."""
-    dt = 0.5 * 0.2 * {1: 0.62, 2: 0.31, 3: 0.155, 4: 0.078}[level]  # near the auto dt
-    out = OUT / f"step_run_M{capsules}_L{level}_{method}_{steps}"
+    spec = step_run_spec(capsules, level, method, steps, tolerance)
+    out = ROOT / spec.folder
     subprocess.run(["rm", "-rf", str(out)], check=True)
-    cmd = [str(CAPSIM), "run", "-q", "--set", f"capsules={capsules}", "--set",
-           f"mesh_level={level}", "--set", "phi=0.3", "--set", "ca=0.2", "--set",
-           f"method={method}", "--set", f"ewald.tolerance={tolerance}", "--set",
-           f"dt={dt}", "--set", f"t_end={steps * dt}", "--set", "t_avg_start=0", "--set",
-           "output.snapshot_interval=0", "-o", str(out)]
+    # threads 0: OpenMP's default, as capsim's own
+    cmd = run_command(CAPSIM, spec.capsim_options(threads=0), out, "-q")
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=True)
     summary = json.loads((out / "summary.json").read_text())

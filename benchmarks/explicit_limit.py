@@ -22,6 +22,7 @@ import tempfile
 import pandas as pd
 
 from analysis.tables import markdown_table
+from pipeline.command_line import run_command
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUT = ROOT / "results" / "benchmarks"
@@ -39,10 +40,9 @@ CASES = {
 
 
 def stable(capsim, settings, safety, folder):
-    cmd = [str(capsim), "run", "-q", "-o", str(folder)]
-    for key, value in {**settings, "dt_safety": safety, "t_avg_start": 0,
-                       "output.sample_interval": 0.5, "output.snapshot_interval": 0}.items():
-        cmd += ["--set", f"{key}={value}"]
+    options = {**settings, "dt_safety": safety, "t_avg_start": 0,
+               "output.sample_interval": 0.5, "output.snapshot_interval": 0}
+    cmd = run_command(capsim, options, folder, "-q")
     return subprocess.run(cmd, check=False, stderr=subprocess.DEVNULL).returncode == 0
 
 

@@ -30,6 +30,8 @@ import pandas as pd
 from analysis.read_run import read_timeseries
 from analysis.rheology import particle_stress
 from analysis.tables import markdown_table
+from pipeline.command_line import run_command, set_arguments
+from pipeline.run_spec import RunSpec
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
@@ -37,24 +39,27 @@ OUT = ROOT / "results" / "benchmarks"
 CAPSIM = ROOT / "build" / "capsim"
 
 
-def run(folder, a, method, tolerance):
+def method_spec(a, case, method, tolerance):
+    """The run of one method, in results/benchmarks/agreement_<case>_<method>."""
+    return RunSpec(study="benchmarks", label=f"agreement_{case}_{method}", ca=a.ca,
+                   level=a.mesh_level, t_end=a.t_end, t_avg_start=a.t_start, phi=a.phi,
+                   M=a.capsules, seed=a.seed, snapshot_interval=0,
+                   options=(("ewald.tolerance", tolerance), ("method", method)))
+
+
+def run(spec):
     """Runs (or resumes, or reuses) capsim for one method; returns the folder."""
+    folder = ROOT / spec.folder
     summary = folder / "summary.json"
     if summary.exists():
         s = json.loads(summary.read_text())
-        if s.get("ended") != "t_end" or s["t_end"] >= a.t_end:  # stopped early, or done
+        if s.get("ended") != "t_end" or s["t_end"] >= spec.t_end:  # stopped early, or done
             return folder
-    sets = [f"t_end={a.t_end}"]
     if (folder / "checkpoint.h5").exists():
-        cmd = [str(CAPSIM), "run", "--resume", str(folder)]
-    else:
-        sets += [f"capsules={a.capsules}", f"mesh_level={a.mesh_level}", f"ca={a.ca}",
-                 f"phi={a.phi}", f"seed={a.seed}", f"method={method}",
-                 f"ewald.tolerance={tolerance}", f"t_avg_start={a.t_start}",
-                 "output.snapshot_interval=0"]
-        cmd = [str(CAPSIM), "run", "-o", str(folder)]
-    for s in sets:
-        cmd += ["--set", s]
+        cmd = [str(CAPSIM), "run", "--resume", str(folder),
+               *set_arguments({"t_end": spec.t_end})]
+    else:  # threads 0: OpenMP's default, as capsim's own
+        cmd = run_command(CAPSIM, spec.capsim_options(threads=0), folder)
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=False)  # exit 3 (early stop) still leaves a summary
     return folder
@@ -99,7 +104,7 @@ def main():
         p.error("--tolerance: give one value, or one per method")
     series, rows, wall = {}, [], {}
     for method, tolerance in zip(methods, tolerances):
-        folder = run(OUT / f"agreement_{case}_{method}", a, method, tolerance)
+        folder = run(method_spec(a, case, method, tolerance))
         summary = json.loads((folder / "summary.json").read_text())
         ts = read_timeseries(folder)
         t_end = min(a.t_end, float(ts["time"].max()))

@@ -26,6 +26,7 @@ from pathlib import Path
 from analysis.averages import run_averages
 from analysis.read_run import read_summary, read_timeseries
 from analysis.rheology import rheology
+from pipeline.command_line import run_command
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from step_profile import CAPSIM, CASE, print_json  # noqa: E402
@@ -39,12 +40,11 @@ def run(level, t_end, threads, out, capsim=CAPSIM, **options):
     reciprocal stages and its averages over the second half with standard errors."""
     out = Path(out)
     profile = out.with_suffix(".json")
-    sets = [f"--set={k}={v}" for k, v in {
-        **CASE, "mesh_level": level, "t_end": t_end, "t_avg_start": t_end / 2,
-        "threads": threads, **options}.items()]
+    settings = {**CASE, "mesh_level": level, "t_end": t_end, "t_avg_start": t_end / 2,
+                "threads": threads, **options}
     start, cpu = time.perf_counter(), os.times()
-    subprocess.run([str(capsim), "run", "-q", *sets, "-o", str(out), "--profile",
-                    str(profile)], check=True, env={"OMP_WAIT_POLICY": "passive", **os.environ})
+    subprocess.run(run_command(capsim, settings, out, "-q", "--profile", str(profile)),
+                   check=True, env={"OMP_WAIT_POLICY": "passive", **os.environ})
     wall = time.perf_counter() - start
     after = os.times()
     cpu_s = after.children_user + after.children_system - cpu.children_user - cpu.children_system

@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pipeline.command_line import run_command
+
 ROOT = Path(__file__).resolve().parents[1]
 CAPSIM = ROOT / "build" / "capsim"
 PEAK = ROOT / "build" / "peak_flops"
@@ -52,12 +54,11 @@ def print_json(result, out=None):
 def profile_run(level, t_end, threads):
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(scratch) / "run"
-        sets = [f"--set={k}={v}" for k, v in {**CASE, "mesh_level": level, "t_end": t_end,
-                                              "t_avg_start": 0, "threads": threads,
-                                              "output.checkpoint_interval": t_end}.items()]
+        options = {**CASE, "mesh_level": level, "t_end": t_end, "t_avg_start": 0,
+                   "threads": threads, "output.checkpoint_interval": t_end}
         start = time.perf_counter()
-        subprocess.run([str(CAPSIM), "run", "-q", *sets, "-o", str(out), "--profile",
-                        str(Path(scratch) / "profile.json")], check=True,
+        subprocess.run(run_command(CAPSIM, options, out, "-q", "--profile",
+                                   str(Path(scratch) / "profile.json")), check=True,
                        env={"OMP_WAIT_POLICY": "passive", **os.environ})
         wall = time.perf_counter() - start
         profile = json.loads((Path(scratch) / "profile.json").read_text())

@@ -22,21 +22,27 @@ import pandas as pd
 
 from analysis.read_run import read_timeseries
 from analysis.tables import markdown_table
+from pipeline.command_line import run_command
+from pipeline.run_spec import RunSpec
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUT = ROOT / "results" / "benchmarks"
 
 
+def fixed_step_spec(a, ca, scheme, steps):
+    """A run of `steps` fixed steps of `scheme` to strain a.strain."""
+    options = {"dt": a.strain / steps, "time.scheme": scheme,
+               "output.sample_interval": a.strain / a.samples,
+               "output.snapshot_interval": 0}
+    return RunSpec(study="benchmarks", ca=ca, level=a.mesh_level, t_end=a.strain,
+                   t_avg_start=a.strain / 2, options=tuple(sorted(options.items())))
+
+
 def series(folder, a, ca, scheme, steps):
     """D and S_xy of the capsule at every sample of a fixed-step run (None if it
     stopped)."""
-    dt = a.strain / steps
-    cmd = [str(a.capsim), "run", "-q", "-o", str(folder)]
-    for s in (f"ca={ca}", f"mesh_level={a.mesh_level}", f"t_end={a.strain}",
-              f"t_avg_start={a.strain / 2}", f"dt={dt!r}", f"time.scheme={scheme}",
-              f"output.sample_interval={a.strain / a.samples!r}",
-              "output.snapshot_interval=0", "threads=1"):
-        cmd += ["--set", s]
+    spec = fixed_step_spec(a, ca, scheme, steps)
+    cmd = run_command(a.capsim, spec.capsim_options(threads=1), folder, "-q")
     if subprocess.run(cmd, check=False).returncode != 0:
         return None
     ts = read_timeseries(folder)

@@ -26,6 +26,7 @@ results/benchmarks/time_schemes.json and .md.
 """
 
 import argparse
+import dataclasses
 import json
 import math
 import pathlib
@@ -37,9 +38,13 @@ import pandas as pd
 from analysis.read_run import read_timeseries
 from analysis.rheology import particle_stress
 from analysis.tables import markdown_table
+from pipeline.command_line import run_command
+from pipeline.run_spec import RunSpec
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 OUT = ROOT / "results" / "benchmarks"
+STUDY = "benchmarks/schemes"  # run folders: results/benchmarks/schemes/<case>_<variant>
+SAMPLES = {"output.sample_interval": 0.25, "output.snapshot_interval": 0}
 HEUN = {"time.scheme": "heun"}
 HEUN_1 = {"time.scheme": "heun", "dt_safety": 1.0}
 IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
@@ -49,31 +54,35 @@ def imex_rms(tolerance):
     return {"time.scheme": "imex", "time.tolerance": tolerance, "time.error_norm": "rms"}
 
 
+def dilute(level, ca):
+    """One capsule to t = 20, averaged over [10, 20]."""
+    return RunSpec(study=STUDY, ca=ca, level=level, t_end=20, t_avg_start=10)
+
+
 def cases(name):
-    """(case label, common settings, [(variant label, settings)])."""
-    window = {"t_end": 20, "t_avg_start": 10}
+    """(case label, the runs' common RunSpec, [(variant label, settings)])."""
     if name == "dilute":
         for level in (2, 3, 4):
             for ca in (0.2, 0.4, 0.6):
-                yield (f"dilute_L{level}_Ca{ca}", {**window, "mesh_level": level, "ca": ca},
+                yield (f"dilute_L{level}_Ca{ca}", dilute(level, ca),
                        [("heun", HEUN), ("imex", IMEX)])
     elif name == "dilute2":
         for ca in (0.2, 0.4, 0.6):
-            yield (f"dilute_L2_Ca{ca}", {**window, "mesh_level": 2, "ca": ca},
+            yield (f"dilute_L2_Ca{ca}", dilute(2, ca),
                    [("heun", HEUN), ("imex", IMEX),
                     ("imex_3e-4", {**IMEX, "time.tolerance": 3e-4}),
                     ("imex_1e-4", {**IMEX, "time.tolerance": 1e-4})])
     elif name == "dilute05":
-        yield ("dilute_L4_Ca0.05", {**window, "mesh_level": 4, "ca": 0.05},
+        yield ("dilute_L4_Ca0.05", dilute(4, 0.05),
                [("heun_1", HEUN_1), ("imex", IMEX), ("imex_rms", imex_rms(1e-3))])
     elif name == "level4auto":
         for ca in (0.05, 0.2, 0.6):
-            yield (f"dilute_L4_Ca{ca}", {**window, "mesh_level": 4, "ca": ca},
+            yield (f"dilute_L4_Ca{ca}", dilute(4, ca),
                    [("heun_1", HEUN_1), ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
                     ("imex_rms_auto", imex_rms("auto"))])
     elif name == "table1":
-        common = {**window, "mesh_level": 3, "ca": 0.2, "phi": 0.3, "capsules": 27,
-                  "seed": 1, "ewald.tolerance": 1e-4}
+        common = RunSpec(study=STUDY, ca=0.2, level=3, t_end=20, t_avg_start=10, phi=0.3,
+                         M=27, seed=1, options=(("ewald.tolerance", 1e-4),))
         yield ("table1", common, [("heun_1", HEUN_1), ("imex", IMEX),
                                   ("imex_rms_3e-3", imex_rms(3e-3)),
                                   ("imex_rms_1e-2", imex_rms(1e-2))])
@@ -81,18 +90,26 @@ def cases(name):
         raise SystemExit(f"unknown case '{name}'")
 
 
-def run(folder, settings, a):
-    """Runs capsim once into `folder` unless a finished run is there."""
+def variant_spec(common, label, variant, settings):
+    """The RunSpec of one variant of a case, in the folder <case label>_<variant>."""
+    options = {**dict(common.options), **settings, **SAMPLES}
+    return dataclasses.replace(common, options=tuple(sorted(options.items())),
+                               label=f"{label}_{variant}")
+
+
+def run(spec, a):
+    """Runs capsim once into the spec's folder unless a finished run is there; returns
+    the folder."""
+    folder = ROOT / spec.folder
     if (folder / "summary.json").exists():
-        return
-    cmd = [str(a.capsim), "run", "-q", "-o", str(folder)]
+        return folder
     if (folder / "checkpoint.h5").exists():
         cmd = [str(a.capsim), "run", "-q", "--resume", str(folder)]
-        settings = {}
-    for key, value in settings.items():
-        cmd += ["--set", f"{key}={value}"]
+    else:
+        cmd = run_command(a.capsim, spec.capsim_options(a.threads), folder, "-q")
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=False)  # an early stop still leaves a summary
+    return folder
 
 
 def block_mean(values, blocks=5):
@@ -102,16 +119,15 @@ def block_mean(values, blocks=5):
     return float(values.mean()), float(means.std(ddof=1) / math.sqrt(blocks))
 
 
-def measure(folder, common):
+def measure(folder, spec):
     s = json.loads((folder / "summary.json").read_text())
     ts = read_timeseries(folder)
-    inside = (ts["time"] >= common["t_avg_start"]) & (ts["time"] <= common["t_end"])
-    phi, ca = common.get("phi", 0.0), common["ca"]
-    stress = particle_stress(ts["stresslet"][inside].mean(axis=1), phi, ca)
+    inside = (ts["time"] >= spec.t_avg_start) & (ts["time"] <= spec.t_end)
+    stress = particle_stress(ts["stresslet"][inside].mean(axis=1), spec.phi, spec.ca)
     row = {"ended": s["ended"], "steps": s["steps"], "rejected": s.get("rejected_steps"),
            "mean_dt": s["dt"], "wall_s": s["wall_seconds"],
            "s_per_capsule_strain": s["wall_seconds"]
-           / (s["parameters"]["capsules"] * common["t_end"])}
+           / (s["parameters"]["capsules"] * spec.t_end)}
     for name, series in (("D", ts["D"][inside].mean(axis=1)), ("mu_sp", stress[:, 0, 1]),
                          ("N1", stress[:, 0, 0] - stress[:, 1, 1])):
         row[name], row[name + "_se"] = block_mean(series)
@@ -124,18 +140,14 @@ def main():
     p.add_argument("--capsim", type=pathlib.Path, default=ROOT / "build" / "capsim")
     p.add_argument("--threads", type=int, default=2)
     a = p.parse_args()
-    folder = OUT / "schemes"
-    folder.mkdir(parents=True, exist_ok=True)
+    (ROOT / "results" / STUDY).mkdir(parents=True, exist_ok=True)
     rows = []
     for name in a.cases.split(","):
         for label, common, variants in cases(name):
             baseline = None
             for variant, settings in variants:
-                run_dir = folder / f"{label}_{variant}"
-                run(run_dir, {**common, **settings, "threads": a.threads,
-                              "output.sample_interval": 0.25,
-                              "output.snapshot_interval": 0}, a)
-                row = {"case": label, "variant": variant, **measure(run_dir, common)}
+                spec = variant_spec(common, label, variant, settings)
+                row = {"case": label, "variant": variant, **measure(run(spec, a), spec)}
                 if baseline is None:
                     baseline = row
                 else:

@@ -27,6 +27,7 @@ from pathlib import Path
 
 from analysis import membrane as membrane_codes
 from analysis.accuracy import time_options
+from pipeline.command_line import option_value
 
 ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
@@ -36,23 +37,11 @@ def physics_version():
     return PHYSICS_VERSION_FILE.read_text().split()[0]
 
 
-def option_value(value):
-    """A configuration value as capsim's `--set key=value` spells it: YAML's booleans as
-    true/false (capsim refuses Python's True), the rest as str() writes it."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return str(value)
-
-
-def set_options(options):
-    """`--set key=value` for each item of a mapping, in its order."""
-    return " ".join(f"--set {k}={option_value(v)}" for k, v in options.items())
-
-
 @dataclasses.dataclass(frozen=True)
 class RunSpec:
     """One run. study: the results folder that holds it ("dilute" for phi = 0);
-    options: the configuration's run_options (suspensions only)."""
+    options: further capsim options (for a suspension of the main studies, the
+    configuration's run_options)."""
 
     study: str  # "dilute" for the dilute runs of the main studies
     ca: float

@@ -15,9 +15,11 @@ import tempfile
 import h5py
 import pytest
 
+from pipeline.command_line import set_arguments
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CAPSIM = ROOT / "build" / "capsim"
-sys.path.insert(0, str(ROOT / "benchmarks"))
+sys.path.insert(0, str(ROOT / "tests" / "reliability"))
 import kill_resume_soak  # noqa: E402
 
 # Two capsules, a sample every step and a checkpoint every two steps: 78 rows, so the
@@ -25,7 +27,7 @@ import kill_resume_soak  # noqa: E402
 CASE = {"method": "direct", "phi": 0.05, "capsules": 2, "mesh_level": 1, "t_end": 4.5,
         "t_avg_start": 1, "dt_safety": 0.5, "output.sample_interval": 0.02,
         "output.checkpoint_interval": 0.1, "threads": 1}
-ARGS = kill_resume_soak.settings(CASE)
+ARGS = set_arguments(CASE)
 
 
 def capsim(*args, **kwargs):

@@ -24,8 +24,8 @@ from pathlib import Path
 import pytest
 import yaml
 
+from pipeline.command_line import set_options
 from pipeline.job import run_job
-from pipeline.run_spec import set_options
 from analysis.read_run import read_timeseries
 from analysis.tables import read_table
 

@@ -16,7 +16,7 @@ from analysis.read_run import read_timeseries
 
 ROOT = Path(__file__).resolve().parents[2]
 CAPSIM = ROOT / "build" / "capsim"
-sys.path.insert(0, str(ROOT / "benchmarks"))
+sys.path.insert(0, str(ROOT / "tests" / "reliability"))
 import kill_resume_soak  # noqa: E402
 
 TRIANGLES = 80  # mesh level 1

@@ -13,7 +13,7 @@ from analysis import accuracy as accuracy_study
 from analysis import membrane as membrane_codes
 from analysis import sensitivity as sensitivity_study
 from pipeline import archive, run_spec
-from pipeline.run_spec import set_options
+from pipeline.command_line import set_options
 
 SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
 

@@ -9,8 +9,8 @@
      one message naming the file and change nothing (detected), or finish equal to the
      uninterrupted run (the bytes were unused space): never a different result.
 
-Usage: sudo .venv/bin/python benchmarks/disk_faults.py [--cases 30] [--capsim PATH]
-Writes results/benchmarks/disk_faults.json.
+Usage: sudo .venv/bin/python tests/reliability/disk_faults.py [--cases 30] [--capsim PATH]
+Writes results/reliability/disk_faults.json.
 """
 
 import argparse
@@ -22,15 +22,17 @@ import signal
 import subprocess
 import tempfile
 
-from kill_resume_soak import CASE, differences, settings
+from pipeline.command_line import run_command
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-OUT = ROOT / "results" / "benchmarks"
+from kill_resume_soak import CASE, command, differences
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+OUT = ROOT / "results" / "reliability"
 SMALL = {**CASE, "t_end": 3, "output.snapshot_interval": 1}
 
 
-def capsim(exe, *args, env=None):
-    return subprocess.run([str(exe), *args], capture_output=True, text=True, env=env)
+def capsim(cmd):
+    return subprocess.run(cmd, capture_output=True, text=True)
 
 
 def where_it_failed(message):
@@ -43,9 +45,7 @@ def where_it_failed(message):
 
 def finish(exe, run):
     """Resumes a stopped run, or starts it again when it has no checkpoint yet."""
-    if (run / "checkpoint.h5").exists():
-        return capsim(exe, "run", "-q", "--resume", str(run))
-    return capsim(exe, "run", "-q", *settings(SMALL), "-o", str(run))
+    return capsim(command(exe, run, SMALL))
 
 
 def full_disk_case(exe, mount, whole, free):
@@ -56,7 +56,7 @@ def full_disk_case(exe, mount, whole, free):
     with open(filler, "wb") as f:
         f.write(bytes(max(0, stat.f_bavail * stat.f_frsize - free)))
     run = mount / "run"
-    r = capsim(exe, "run", "-q", *settings(SMALL), "-o", str(run))
+    r = capsim(run_command(exe, SMALL, run, "-q"))
     case = {"free_bytes": free, "exit": r.returncode, "message": r.stderr.strip()}
     if r.returncode == 0:
         case["outcome"] = "finished"
@@ -93,8 +93,7 @@ def killed_copy(exe, work):
     run = work / "killed"
     if not run.exists():
         env = dict(os.environ, CAPSIM_TEST_KILL_AT="checkpoint_closed:12")
-        r = subprocess.run([str(exe), "run", "-q", *settings(SMALL), "-o", str(run)],
-                           env=env)
+        r = subprocess.run(run_command(exe, SMALL, run, "-q"), env=env)
         assert r.returncode == -signal.SIGKILL
     copy = work / "damaged"
     shutil.rmtree(copy, ignore_errors=True)
@@ -110,7 +109,7 @@ def damage_case(exe, work, whole, damage, label):
     run = killed_copy(exe, work)
     damage(run / "timeseries.h5")
     before = files_of(run)
-    r = capsim(exe, "run", "-q", "--resume", str(run))
+    r = capsim([str(exe), "run", "-q", "--resume", str(run)])
     case = {"damage": label, "exit": r.returncode, "message": r.stderr.strip()[:300]}
     if r.returncode == 0:
         same = not differences(whole, run)
@@ -161,8 +160,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         whole = work / "whole"
-        subprocess.run([str(a.capsim), "run", "-q", *settings(SMALL), "-o", str(whole)],
-                       check=True)
+        subprocess.run(run_command(a.capsim, SMALL, whole, "-q"), check=True)
         disk = full_disk(a.capsim, whole, a.cases, a.tmpfs_kb)
         damage = damaged_files(a.capsim, work, whole, a.cases)
     record = {"case": SMALL, "full_disk": disk, "damaged_timeseries": damage,

@@ -12,9 +12,9 @@ the k-th time it passes <point>:
 A random kill is classed by the files it leaves: a checkpoint.h5.tmp or timeseries.h5.tmp
 newer than checkpoint.h5 means it landed inside that write, else between writes.
 
-Usage: .venv/bin/python benchmarks/kill_resume_soak.py [--kills 24] [--seed 1]
+Usage: .venv/bin/python tests/reliability/kill_resume_soak.py [--kills 24] [--seed 1]
            [--capsim PATH]
-Writes results/benchmarks/kill_resume_soak.json.
+Writes results/reliability/kill_resume_soak.json.
 """
 
 import argparse
@@ -30,8 +30,10 @@ import time
 import h5py
 import numpy as np
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-OUT = ROOT / "results" / "benchmarks"
+from pipeline.command_line import run_command
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+OUT = ROOT / "results" / "reliability"
 POINTS = ["series_written", "series_renamed", "checkpoint_written", "checkpoint_closed"]
 # Two capsules in a periodic box, a checkpoint every 0.1 strain (about two steps), one
 # thread: about 0.03 s per step here.
@@ -42,24 +44,21 @@ CASE = {"method": "direct", "phi": 0.05, "capsules": 2, "mesh_level": 1, "t_end"
 INVOCATION_FIELDS = {"wall_seconds", "cpu_seconds", "resumed"}
 
 
-def settings(case):
-    args = []
-    for key, value in case.items():
-        args += ["--set", f"{key}={value}"]
-    return args
+def command(capsim, folder, case):
+    """capsim on `folder`: a new run until it has a checkpoint, then a resume."""
+    if (folder / "checkpoint.h5").exists():
+        return [str(capsim), "run", "-q", "--resume", str(folder)]
+    return run_command(capsim, case, folder, "-q")
 
 
 def start(capsim, folder, case, kill_at=None):
-    """capsim on `folder`: a new run until it has a checkpoint, then a resume."""
-    if (folder / "checkpoint.h5").exists():
-        cmd = [str(capsim), "run", "-q", "--resume", str(folder)]
-    else:
-        cmd = [str(capsim), "run", "-q", *settings(case), "-o", str(folder)]
+    """Starts `command`, killed at the testing aid's point `kill_at` when given."""
     env = dict(os.environ)
     env.pop("CAPSIM_TEST_KILL_AT", None)
     if kill_at:
         env["CAPSIM_TEST_KILL_AT"] = kill_at
-    return subprocess.Popen(cmd, env=env, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(command(capsim, folder, case), env=env, stderr=subprocess.PIPE,
+                            text=True)
 
 
 def window_of_random_kill(folder):
@@ -134,8 +133,7 @@ def soak(capsim, workdir, kills, seed, case=CASE, points=POINTS):
     rng = random.Random(seed)
     whole, killed = workdir / "whole", workdir / "killed"
     began = time.time()
-    subprocess.run([str(capsim), "run", "-q", *settings(case), "-o", str(whole)],
-                   check=True)
+    subprocess.run(run_command(capsim, case, whole, "-q"), check=True)
     log, windows = [], {}
     for what, arg in plan_kills(kills, rng, points):
         window = one_kill(capsim, killed, case, what, arg, log)
