@@ -10,27 +10,20 @@
 #include "dynamics/state_checks.hpp"
 #include "dynamics/time_schemes.hpp"
 #include "dynamics/volume_constraint.hpp"
-#include "io/checkpoint_file.hpp"
-#include "io/json_writer.hpp"
-#include "io/timeseries_file.hpp"
-#include "io/xdmf_snapshot.hpp"
 #include "membrane/compression.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "run/automatic_settings.hpp"
 #include "run/flow_factory.hpp"
+#include "run/progress.hpp"
+#include "run/run_files.hpp"
 #include "run/step_failure.hpp"
 #include "run/summary.hpp"
 #include "stokes/quadrature/triangle_sources.hpp"
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <omp.h>
-
-namespace fs = std::filesystem;
 
 namespace capsim {
 
@@ -94,29 +87,12 @@ long steps_for(double interval, double dt) {
   return interval > 0 ? std::max(1L, std::lround(interval / dt)) : 0;
 }
 
-// Refuses to overwrite a finished or running run; checks that the folder is writable.
-void prepare_fresh_outdir(const std::string& dir) {
-  if (fs::exists(dir + "/checkpoint.h5") || fs::exists(dir + "/summary.json"))
-    throw ConfigError("output folder '" + dir +
-                      "' already holds a run: continue it with `capsim run --resume " +
-                      dir + "`, or choose another folder with -o");
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  std::string probe = dir + "/.capsim_write_test";
-  std::ofstream out(probe);
-  if (ec || !out)
-    throw ConfigError("output folder '" + dir + "' cannot be created or written" +
-                      (ec ? ": " + ec.message() : ""));
-  out.close();
-  fs::remove(probe);
-}
-
 class RunLoop {
 public:
   RunLoop(const RunOptions& o, std::string dir, bool quiet, double pause_at,
           RunProfile* profile)
-      : o_(o), dir_(std::move(dir)), quiet_(quiet), pause_at_(pause_at),
-        profile_(profile), mesh_(make_icosphere(o.mesh_level)),
+      : o_(o), files_(std::move(dir), o.capsules), progress_(quiet, o.t_end),
+        pause_at_(pause_at), profile_(profile), mesh_(make_icosphere(o.mesh_level)),
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
                   o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
@@ -141,9 +117,9 @@ public:
   }
 
   void start_fresh();
-  void check_series(const Checkpoint& c) const;
+  void check_series(const Checkpoint& c) const { files_.check_series(c); }
   void start_from(const Checkpoint& c);
-  std::string resume_hint() const;
+  std::string resume_hint() const { return files_.resume_hint(); }
   void run();
   bool paused() const { return paused_; }
   // summary.json; `ended` is "t_end" or the SimulationError kind that stopped the run.
@@ -153,14 +129,12 @@ public:
 
 private:
   void take_sample();
-  void flush_samples();
   void save_checkpoint();
   void save_snapshot();
-  void add_snapshot_fields(SnapshotFrame& frame) const;
-  void report_progress(Clock::time_point begin, long first_step, bool force);
+  void report_progress(bool force);
   void keep_in_box();
-  void step_until_end(Clock::time_point begin, long first);
-  void step_adaptively(Clock::time_point begin, long first);
+  void step_until_end();
+  void step_adaptively();
   bool try_step(double target);
   void finish_step();
   void write_outputs(long index, bool sample, bool last);
@@ -172,8 +146,8 @@ private:
   const PeriodicBox& box() const { return flow_->setup().box; }
 
   RunOptions o_;
-  std::string dir_;
-  bool quiet_;
+  RunFiles files_;
+  ProgressReport progress_;
   double pause_at_;     // RunRequest::pause_at
   bool paused_ = false; // stopped at pause_at_, after a regular checkpoint
   RunProfile* profile_; // RunRequest::profile (null: none)
@@ -189,15 +163,10 @@ private:
   std::unique_ptr<Stepper> stepper_;
   AdaptiveStepper adaptive_; // steps with time.tolerance > 0
   double t_ = 0;             // gammadot t of an adaptive run
-  double first_time_ = 0;    // time() when this invocation's stepping began, for the ETA
   long n_steps_, sample_every_, checkpoint_every_, snapshot_every_;
-  long step_ = 0, rows_written_ = 0;
-  double checkpoint_time_ = -1; // time() of the checkpoint on disk; < 0 before the first
+  long step_ = 0;
   std::vector<Vec3> x_;
   std::vector<double> v0_, drift_;
-  std::vector<Sample> pending_; // samples taken since the last checkpoint
-  std::vector<SnapshotIndexEntry> snapshots_;
-  Clock::time_point last_report_{};
 };
 
 void RunLoop::start_fresh() {
@@ -219,55 +188,22 @@ void RunLoop::start_fresh() {
   for (const Vec3& c : centres)
     for (const auto& p : mesh_.positions)
       x_.push_back(c + Vec3{s * p.x, p.y / std::sqrt(s), p.z / std::sqrt(s)});
-  write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
-  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules).commit(); // an empty file
+  files_.start(o_);
   take_sample();
   if (snapshot_every_ > 0)
     save_snapshot();
   save_checkpoint();
 }
 
-// A damaged or short time series stops a resume before any file is changed: reading
-// every row back finds a truncated file, broken structure and, through the chunks'
-// checksums, damaged values.
-void RunLoop::check_series(const Checkpoint& c) const {
-  const std::string path = dir_ + "/timeseries.h5";
-  try {
-    const long rows = long(read_timeseries(path).size());
-    if (rows < c.samples_written)
-      throw std::runtime_error("timeseries " + path + " holds " + std::to_string(rows) +
-                               " rows, the checkpoint needs " +
-                               std::to_string(c.samples_written));
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(
-        std::string(e.what()) +
-        ". Nothing was changed; the run cannot continue without the rows before its "
-        "checkpoint: restore timeseries.h5 from a copy, or start the run again in a "
-        "new folder");
-  }
-}
-
-// What to do after a failed write: where the run can continue from.
-std::string RunLoop::resume_hint() const {
-  if (checkpoint_time_ < 0)
-    return ". No checkpoint was written yet: free space (or make the folder writable), "
-           "then start the run again with the same command";
-  char t[32];
-  std::snprintf(t, sizeof t, "%.6g", checkpoint_time_);
-  return ". The last good checkpoint (gammadot*t = " + std::string(t) + ") is kept in " +
-         dir_ + "/checkpoint.h5: free space (or make the folder writable), then " +
-         "continue with `capsim run --resume " + dir_ + "`";
-}
-
 void RunLoop::start_from(const Checkpoint& c) {
   if (c.nodes_per_capsule != mesh_.topology.num_nodes || c.num_capsules != o_.capsules)
     throw ConfigError(
-        "checkpoint in '" + dir_ + "' does not match its own options " +
+        "checkpoint in '" + files_.dir() + "' does not match its own options " +
         "(mesh or capsule count differ): it is not a capsim checkpoint of this run");
   // Every saved state passed check_state; one that does not now was altered since.
   const std::string problem = broken_state(mesh_.topology, o_.capsules, c.positions);
   if (!problem.empty())
-    throw std::runtime_error("checkpoint " + dir_ +
+    throw std::runtime_error("checkpoint " + files_.dir() +
                              "/checkpoint.h5 is corrupt: " + "/positions " + problem);
   x_ = c.positions;
   v0_ = c.volume0;
@@ -276,12 +212,7 @@ void RunLoop::start_from(const Checkpoint& c) {
   adaptive_.set_rejected(c.rejected_steps);
   if (adaptive() && c.next_dt > 0)
     adaptive_.set_dt(c.next_dt);
-  rows_written_ = c.samples_written;
-  checkpoint_time_ = time();
-  // Rows written after the checkpoint (a run killed between the two) are dropped.
-  TimeseriesWriter(dir_ + "/timeseries.h5", o_.capsules, rows_written_).commit();
-  snapshots_ = list_snapshots(dir_, c.snapshots_written);
-  write_text_atomically(dir_ + "/run.yaml", to_yaml(o_));
+  files_.resume(c, o_);
 }
 
 // A SimulationError leaves the loop with the samples taken since the last checkpoint
@@ -289,21 +220,19 @@ void RunLoop::start_from(const Checkpoint& c) {
 // can average up to the stop; a resume drops them again with the rest after the
 // checkpoint.
 void RunLoop::run() {
-  const auto begin = Clock::now();
-  const long first = step_;
-  first_time_ = time();
+  progress_.start(time(), step_);
   ScopeTimer loop(stage(&RunProfile::loop));
   try {
-    step_until_end(begin, first);
+    step_until_end();
   } catch (const SimulationError&) {
-    flush_samples();
+    files_.flush_samples();
     throw;
   }
 }
 
-void RunLoop::step_until_end(Clock::time_point begin, long first) {
+void RunLoop::step_until_end() {
   if (adaptive())
-    return step_adaptively(begin, first);
+    return step_adaptively();
   while (step_ < n_steps_ && !paused_) {
     {
       ScopeTimer timer(stage(&RunProfile::stepping));
@@ -313,23 +242,23 @@ void RunLoop::step_until_end(Clock::time_point begin, long first) {
     finish_step();
     const bool last = step_ == n_steps_;
     write_outputs(step_, step_ % sample_every_ == 0 || last, last);
-    report_progress(begin, first, last);
+    report_progress(last);
   }
 }
 
 // Steps end on every sample time k * output.sample_interval and on t_end, so the time
 // series keeps its spacing; outputs are counted in samples.
-void RunLoop::step_adaptively(Clock::time_point begin, long first) {
+void RunLoop::step_adaptively() {
   const double interval = o_.output.sample_interval;
   while (t_ < o_.t_end && !paused_) {
-    const long next_sample = rows_written_ + long(pending_.size());
+    const long next_sample = files_.samples();
     const double target = std::min(o_.t_end, next_sample * interval);
     if (!try_step(target))
       continue;
     finish_step();
     const bool last = t_ >= o_.t_end;
     write_outputs(next_sample, t_ == target, last);
-    report_progress(begin, first, last);
+    report_progress(last);
   }
 }
 
@@ -388,7 +317,7 @@ void RunLoop::write_outputs(long index, bool sample, bool last) {
   }
   // Only at a regular checkpoint: the unbroken run writes the same one, so a resumed
   // segment continues it to the last bit (a checkpoint forced at `last` would add a row).
-  if (!last && pause_at_ > 0 && checkpoint_time_ == time() && time() >= pause_at_)
+  if (!last && pause_at_ > 0 && files_.checkpoint_time() == time() && time() >= pause_at_)
     paused_ = true;
 }
 
@@ -430,39 +359,21 @@ void RunLoop::take_sample() {
     s.capsules.back().min_tension = k.min_tension;
     drift_[c] = 0;
   }
-  pending_.push_back(std::move(s));
-}
-
-// The time series is opened only here, appended and closed, then the checkpoint is
-// renamed into place: between checkpoints no file of the run is open for writing, so a
-// run killed at any moment leaves readable files, and h5py can read them during a run.
-void RunLoop::flush_samples() {
-  {
-    TimeseriesWriter series(dir_ + "/timeseries.h5", o_.capsules, rows_written_);
-    for (const auto& s : pending_)
-      series.append(s);
-    series.commit();
-  }
-  rows_written_ += long(pending_.size());
-  pending_.clear();
+  files_.add_sample(std::move(s));
 }
 
 void RunLoop::save_checkpoint() {
-  flush_samples();
   Checkpoint c;
   c.time = time();
   c.next_dt = next_dt();
   c.rejected_steps = adaptive_.rejected();
   c.step = step_;
-  c.samples_written = rows_written_;
-  c.snapshots_written = long(snapshots_.size());
   c.num_capsules = o_.capsules;
   c.nodes_per_capsule = mesh_.topology.num_nodes;
   c.volume0 = v0_;
   c.positions = x_;
   c.options_yaml = to_yaml(o_);
-  write_checkpoint(dir_ + "/checkpoint.h5", c);
-  checkpoint_time_ = c.time;
+  files_.save_checkpoint(c);
 }
 
 void RunLoop::save_snapshot() {
@@ -472,41 +383,22 @@ void RunLoop::save_snapshot() {
     frame.box_side = box().L;
     frame.strain = flow_->lattice(frame.time).s;
   }
-  add_snapshot_fields(frame);
-  write_snapshot(dir_, long(snapshots_.size()), frame, mesh_.topology.triangles,
-                 o_.capsules, x_, snapshots_);
-}
-
-// Velocity and traction (one more evaluation of the flow: one per snapshot, against two
-// per step), and the membrane's tensions (diagnostics/snapshot_fields.hpp).
-void RunLoop::add_snapshot_fields(SnapshotFrame& frame) const {
+  // Velocity and traction (one more evaluation of the flow: one per snapshot, against
+  // two per step), and the membrane's tensions (diagnostics/snapshot_fields.hpp).
   flow_->velocity(x_, frame.time, frame.velocity);
   flow_->traction(x_, frame.time, frame.traction);
   add_membrane_fields(membrane_, o_.capsules, x_, frame);
+  files_.save_snapshot(frame, mesh_.topology.triangles, x_);
 }
 
-void RunLoop::report_progress(Clock::time_point begin, long first_step, bool force) {
-  auto now = Clock::now();
-  if (quiet_ || (!force && now - last_report_ < std::chrono::seconds(2)))
-    return;
-  last_report_ = now;
-  const double elapsed = std::chrono::duration<double>(now - begin).count();
-  const double rate = (step_ - first_step) / std::max(elapsed, 1e-9);
-  const double done = time() - first_time_, left = o_.t_end - time();
-  const double eta = done > 0 ? elapsed * left / done : 0;
-  std::fprintf(stderr,
-               "capsim: t = %.3f / %.3f (%5.1f%%)  step %ld  dt %.3g%s  %.1f steps/s  "
-               "ETA %.0f s\n",
-               time(), o_.t_end, 100.0 * time() / o_.t_end, step_, next_dt(),
-               adaptive()
-                   ? (" (" + std::to_string(adaptive_.rejected()) + " rejected)").c_str()
-                   : "",
-               rate, eta);
+void RunLoop::report_progress(bool force) {
+  progress_.report(time(), step_, next_dt(), adaptive() ? adaptive_.rejected() : -1,
+                   force);
 }
 
 void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string& ended,
                             const std::string& end_message) const {
-  std::vector<Sample> samples = read_timeseries(dir_ + "/timeseries.h5");
+  std::vector<Sample> samples = files_.read_series();
   SummaryFacts facts;
   facts.ended = ended;
   facts.end_message = end_message;
@@ -529,7 +421,7 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
     facts.spectral_grid.assign(box().grid.grid, box().grid.grid + 3);
   facts.spectral_support = box().grid.support;
   double t_final = samples.empty() ? 0.0 : samples.back().time;
-  write_summary_json(dir_ + "/summary.json", o_,
+  write_summary_json(files_.dir() + "/summary.json", o_,
                      time_average(samples, o_.t_avg_start, t_final), facts);
 }
 
@@ -589,7 +481,7 @@ bool run_simulation(const RunRequest& request) {
   if (request.resume)
     loop.check_series(checkpoint);
   else
-    prepare_fresh_outdir(request.outdir);
+    RunFiles::prepare_fresh(request.outdir);
   // A failed write (a full disk, a read-only folder) says which file and what failed,
   // then where the run can continue from.
   try {
