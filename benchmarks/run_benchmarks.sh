@@ -11,9 +11,10 @@ run() { [ "$what" = all ] || [ "$what" = "$1" ]; }
 if run single; then # one capsule: seconds per RK2 step at levels 2-4, with its stages
   build/bench_single_capsule 5 > results/benchmarks/single_capsule.json
 fi
-if run peak; then # FMA peak and the real-space kernel's achieved rate
+if run peak; then # FMA peak, the real-space kernel's and the near corrections' rates
   build/peak_flops > results/benchmarks/peak_flops.json
   build/bench_screened_kernel > results/benchmarks/screened_kernel.json
+  build/bench_near_corrections > results/benchmarks/near_corrections.json
 fi
 if run ewald-accuracy; then # error against tolerance, strains 0 and 0.5
   $py benchmarks/ewald_report.py accuracy --capsules 27 --mesh-level 2
