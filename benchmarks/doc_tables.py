@@ -1,0 +1,157 @@
+"""The docs' tables of measurements, generated from the benchmarks' JSON records
+(benchmarks/records/), so that a measured number is typed nowhere. In a Markdown page a
+generated table sits between two comments:
+
+    <!-- table KIND RECORD [RECORD ...] -->
+    | ... |
+    <!-- end table -->
+
+KIND names a renderer below; each RECORD is a JSON file, relative to the repository root,
+as a benchmark wrote it (its command is in the renderer's docstring and the page's text).
+
+    .venv/bin/python benchmarks/doc_tables.py --write docs/performance.md  # regenerate
+    .venv/bin/python benchmarks/doc_tables.py --check docs/*.md            # 1 if stale
+"""
+
+import argparse
+import json
+import re
+import sys
+from pathlib import Path
+
+import pandas as pd
+
+from analysis.tables import markdown_table
+
+ROOT = Path(__file__).resolve().parents[1]
+BLOCK = re.compile(r"(<!-- table (\S+)((?: \S+)+) -->\n)(.*?)(<!-- end table -->)", re.S)
+
+# Rows of the step profile: the stages of `capsim run --profile` (run/run_profile.hpp).
+STEP_ROWS = [
+    ("membrane load (and repulsion), two per step", ["membrane_load"]),
+    ("Ewald set-up (cell lists, rule points)", ["ewald_setup"]),
+    ("near corrections (singular and near-singular quadrature)", ["near_corrections"]),
+    ("real-space sum", ["real_space"]),
+    ("reciprocal (Spectral Ewald)", ["reciprocal"]),
+    ("of which spreading", ["spreading"]),
+    ("of which FFT", ["fft"]),
+    ("of which gathering", ["gathering"]),
+    ("two evaluations (all of the above)", ["evaluations"]),
+    ("volume constraint, state checks", ["volume_constraint", "state_checks"]),
+    ("Lees-Edwards remapping and contact check", ["box_and_contact"]),
+    ("sampling (one row every 0.05 strain)", ["sampling"]),
+    ("checkpoints", ["checkpoints"]),
+    ("whole step", ["loop"]),
+]
+
+
+def step_profile(profile):
+    """`benchmarks/step_profile.py --out FILE`: seconds per step of every stage at levels
+    3 and 4, its share of the step and its growth from level 3 to 4."""
+    l3, l4 = (profile["levels"][k] for k in ("3", "4"))
+
+    def seconds(level, keys):
+        return sum(level["seconds_per_step"][k] for k in keys)
+
+    rows = []
+    for label, keys in STEP_ROWS:
+        s3, s4 = seconds(l3, keys), seconds(l4, keys)
+        whole3, whole4 = seconds(l3, ["loop"]), seconds(l4, ["loop"])
+        rows.append({"stage": label, "s3": s3, "p3": 100 * s3 / whole3, "s4": s4,
+                     "p4": 100 * s4 / whole4, "growth": s4 / s3 if s3 > 0 else float("nan")})
+    grid3, grid4 = (("x".join(map(str, lv["rates"]["grid"]))) for lv in (l3, l4))
+    rows[6]["stage"] = f"of which FFT (grid {grid3}, {grid4})"
+    return markdown_table(
+        pd.DataFrame(rows), formats={"s3": ".3f", "p3": ".1f", "s4": ".3f", "p4": ".1f",
+                                     "growth": ".1f"},
+        headers=["stage", f"level 3: s/step ({l3['steps']} steps)", "share %",
+                 f"level 4: s/step ({l4['steps']} steps)", "share %", "growth"])
+
+
+def step_rates(profile):
+    """`benchmarks/step_profile.py --out FILE`: each stage's rate against its bound, and
+    the wall seconds per capsule-strain."""
+    peak, copy = profile["fma_peak_gflops"], profile["memory_gbytes_per_s"]
+    l3, l4 = (profile["levels"][k] for k in ("3", "4"))
+    rows = [("real-space sum, GFLOP/s (145 flops per pair)", "real_space_gflops", peak),
+            ("FFT, GFLOP/s (2.5 N log2 N per transform)", "fft_gflops", peak),
+            ("spreading, GB/s of grid values", "spreading_gbytes_per_s", copy),
+            ("gathering, GB/s of grid values", "gathering_gbytes_per_s", copy)]
+    table = [{"what": label, "l3": l3["rates"][key], "f3": 100 * l3["rates"][key] / bound,
+              "l4": l4["rates"][key], "f4": 100 * l4["rates"][key] / bound,
+              "bound": bound} for label, key, bound in rows]
+    table.append({"what": "wall s per capsule-strain", "l3": l3["seconds_per_capsule_strain"],
+                  "f3": float("nan"), "l4": l4["seconds_per_capsule_strain"],
+                  "f4": float("nan"), "bound": float("nan")})
+    return markdown_table(
+        pd.DataFrame(table), formats={k: ".3g" for k in ("l3", "l4", "bound")}
+        | {"f3": ".0f", "f4": ".0f"}, na_rep="",
+        headers=["", "level 3", "% of bound", "level 4", "% of bound",
+                 "bound (FMA peak, GFLOP/s; copy, GB/s)"])
+
+
+def near_corrections(bench, peak):
+    """`build/bench_near_corrections` and `build/peak_flops`: correction points per node
+    and nanoseconds per point on one thread, against the 27 flops of a point at the FMA
+    peak of one thread."""
+    bound_ns = bench["flops_per_point"] / peak["gflops"]["1"]
+    rows = []
+    for level, r in bench["levels"].items():
+        p, ns = r["points_per_node"], r["ns_per_point"]
+        rows.append({"level": level, "triangles": r["near_triangles_per_node"],
+                     "polar": p["polar"], "adaptive": p["adaptive"],
+                     "subtracted": p["subtracted"], "all": p["all"],
+                     "generate": ns["generate"], "sum": ns["sum"],
+                     "times": (ns["generate"] + ns["sum"]) / bound_ns})
+    return markdown_table(
+        pd.DataFrame(rows), formats={"triangles": ".1f", "polar": ".0f", "adaptive": ".0f",
+                                     "subtracted": ".0f", "all": ".0f", "generate": ".2f",
+                                     "sum": ".2f", "times": ".0f"},
+        headers=["level", "near triangles per node", "polar points", "adaptive points",
+                 "3-point points subtracted", "all points", "ns per point: generate",
+                 "push and sum", f"times the bound ({bound_ns:.2f} ns)"])
+
+
+RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
+             "near_corrections": near_corrections}
+
+
+def render(kind, records):
+    if kind not in RENDERERS:
+        raise SystemExit(f"doc_tables: unknown table kind '{kind}' "
+                         f"(known: {', '.join(RENDERERS)})")
+    data = [json.loads((ROOT / r).read_text()) for r in records]
+    return RENDERERS[kind](*data) + "\n"
+
+
+def regenerate(text):
+    """The page with every generated table rendered anew from its records."""
+    return BLOCK.sub(lambda m: m.group(1) + render(m.group(2), m.group(3).split())
+                     + m.group(5), text)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    mode = ap.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--write", action="store_true", help="rewrite the tables in place")
+    mode.add_argument("--check", action="store_true", help="exit 1 if a table is stale")
+    ap.add_argument("pages", nargs="+", help="Markdown pages")
+    args = ap.parse_args(argv)
+    stale = []
+    for page in map(Path, args.pages):
+        text = page.read_text()
+        new = regenerate(text)
+        if new != text:
+            stale.append(str(page))
+            if args.write:
+                page.write_text(new)
+    if args.check and stale:
+        print("doc_tables: generated tables differ from their records in "
+              f"{', '.join(stale)}: run benchmarks/doc_tables.py --write on them",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
