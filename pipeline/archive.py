@@ -299,8 +299,9 @@ def sync(specs, archive_root, segment_ends, workdir="."):
                 marker(run_dir, done[-1]).write_text(
                     json.dumps({"t": record["state_time"]}) + "\n")
             report["partial"].append(spec.folder)
-        elif local is not None and use != "full" and (
+        elif local is not None and (local[0] or local[1] > 0) and use != "full" and (
                 use != "partial" or local[0] or local[1] > record["t_reached"]):
+            # (a run that has not left its start holds nothing to keep)
             collect(run_dir, record_dir, key, final_state=spec.dilute)
             report["recorded"].append(spec.folder)
     return report
@@ -386,9 +387,13 @@ def main(argv=None):
         size += sum(f.stat().st_size for f in path.iterdir())
         if args.command == "list":
             stale = "" if record["physics_version"] == current else " STALE"
-            state = "finished" if record["finished"] else "partial"
+            # A partial record counts the CPU of its finished segments only: the one it
+            # stopped in reported none.
+            state, cpu_of = (("finished", "") if record["finished"] else
+                             ("partial", " in finished segments"))
             print(f"{path}: {state} t {record['t_reached']:g}/{record['t_end']:g}, "
-                  f"{record['cpu_seconds']:.0f} CPU s, key {record['key'][:12]}{stale}")
+                  f"{record['cpu_seconds']:.0f} CPU s{cpu_of}, key {record['key'][:12]}"
+                  f"{stale}")
     if args.command == "verify":
         print(f"archive: {bad} bad record(s)" if bad else "archive: every record is sound")
     if args.command == "list":

@@ -29,6 +29,7 @@ import pytest
 import yaml
 
 from pipeline import archive
+from pipeline.run_spec import RunSpec
 
 from test_workflow_ci import CAPSIM, ROOT, SNAKEMAKE, pytestmark  # noqa: F401 (the skips)
 
@@ -208,3 +209,18 @@ def test_a_quantitative_record_replays_a_stretch_to_the_last_bit():
         pytest.skip("no record of archive/quantitative keeps a state before its end yet")
     rows, difference = archive.replay(min(candidates)[1], CAPSIM, span=0.1)
     assert rows >= 1 and difference == 0.0
+
+
+def test_a_run_recorded_only_once_it_has_left_its_start(tmp_path, monkeypatch):
+    # A folder holding only the checkpoint of t = 0 (a run started, then stopped at
+    # once) has nothing to keep; one past it is recorded.
+    spec = RunSpec(study="initial", ca=0.4, level=1, t_end=0.6, t_avg_start=0.1, phi=0.2,
+                   M=2)
+    recorded = []
+    monkeypatch.setattr(archive, "collect", lambda run_dir, *a, **k: recorded.append(run_dir))
+    for t, want in ((0.0, []), (0.2, [spec.folder])):
+        monkeypatch.setattr(archive, "reached", lambda run_dir, t=t: (False, t))
+        report = archive.sync([spec], tmp_path / "archive", lambda s: [s.t_end],
+                              workdir=tmp_path)
+        assert report["recorded"] == want
+    assert len(recorded) == 1
