@@ -299,9 +299,9 @@ def sync(specs, archive_root, segment_ends, workdir="."):
                 marker(run_dir, done[-1]).write_text(
                     json.dumps({"t": record["state_time"]}) + "\n")
             report["partial"].append(spec.folder)
+        # A folder that reaches further is recorded, unless its run has not left t = 0.
         elif local is not None and (local[0] or local[1] > 0) and use != "full" and (
                 use != "partial" or local[0] or local[1] > record["t_reached"]):
-            # (a run that has not left its start holds nothing to keep)
             collect(run_dir, record_dir, key, final_state=spec.dilute)
             report["recorded"].append(spec.folder)
     return report
