@@ -350,6 +350,21 @@ def replay(record_dir, capsim, threads=None, span=None):
             return stop - start, diff
 
 
+def summary(paths):
+    """{"records", "finished", "bytes", "cpu_seconds", "physics_versions"} of the records
+    under `paths` (damaged records raise ArchiveError)."""
+    out = {"records": 0, "finished": 0, "bytes": 0, "cpu_seconds": 0.0,
+           "physics_versions": set()}
+    for path in _records(paths):
+        record = read_record(path)
+        out["records"] += 1
+        out["finished"] += bool(record["finished"])
+        out["bytes"] += sum(f.stat().st_size for f in path.iterdir())
+        out["cpu_seconds"] += record["cpu_seconds"]
+        out["physics_versions"].add(record["physics_version"])
+    return out
+
+
 def _records(paths):
     for path in map(Path, paths):
         if (path / RECORD).exists():
@@ -367,7 +382,7 @@ def main(argv=None):
                                             "build" / "capsim"),
                     help="the solver, for replay (default build/capsim)")
     args = ap.parse_args(argv)
-    bad, records, cpu, size = 0, 0, 0.0, 0
+    bad = 0
     current = physics_version()
     for path in _records(args.paths):
         try:
@@ -383,8 +398,6 @@ def main(argv=None):
             print(f"{path}: {rows} rows from t {record['state_time']:g} replayed, largest "
                   f"difference {diff:.3g}")
             bad += diff != 0
-        records, cpu = records + 1, cpu + record["cpu_seconds"]
-        size += sum(f.stat().st_size for f in path.iterdir())
         if args.command == "list":
             stale = "" if record["physics_version"] == current else " STALE"
             # A partial record counts the CPU of its finished segments only: the one it
@@ -396,9 +409,10 @@ def main(argv=None):
                   f"{stale}")
     if args.command == "verify":
         print(f"archive: {bad} bad record(s)" if bad else "archive: every record is sound")
-    if args.command == "list":
-        print(f"archive: {records} records, {size / 1e6:.1f} MB, "
-              f"{cpu:.0f} CPU s ({cpu / 3600:.1f} h)")
+    if args.command == "list" and not bad:
+        total = summary(args.paths)
+        print(f"archive: {total['records']} records, {total['bytes'] / 1e6:.1f} MB, "
+              f"{total['cpu_seconds']:.0f} CPU s ({total['cpu_seconds'] / 3600:.1f} h)")
     return 1 if bad else 0
 
 

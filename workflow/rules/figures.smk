@@ -95,6 +95,9 @@ COMPARISON_INPUTS = ["results/dilute/table.csv", "results/grid/table.csv",
     for name in ("table1", "fig01", "fig05", "fig06", "fig07", "fig08", "fig09", "fig10", "fig11")]
 COMPARISON_OUTPUTS = ["results/figures/paper_comparison.md",
                       "results/figures/paper_comparison.csv"]
+# The --configfile files of this invocation (merged over config/config.yaml).
+COMPARISON_LABEL = ", ".join(os.path.relpath(f, ROOT) for f in
+                             (workflow.overwrite_configfiles or workflow.configfiles))
 
 
 rule paper_comparison:
@@ -110,9 +113,32 @@ rule paper_comparison:
     params:
         python=PYTHON,
         stem=lambda wc, output: os.path.splitext(output.csv)[0],
-        # the --configfile files of this invocation (merged over config/config.yaml)
-        label=", ".join(os.path.relpath(f, ROOT) for f in
-                        (workflow.overwrite_configfiles or workflow.configfiles)),
+        label=COMPARISON_LABEL,
     shell:
         "{params.python} -m analysis.paper_comparison --results results "
         "--numbers {input.numbers} --out {params.stem} --label '{params.label}' > {log} 2>&1"
+
+
+# The results page of this configuration (docs/results.md, its figures in docs/results/):
+# a target of its own, outside `all`, since it writes into the repository's docs
+# (pipeline/results_page.py). `snakemake results_page --configfile config/quantitative.yaml`
+# publishes the quantitative reproduction.
+RESULTS_FIGURES = ["fig03", "fig05", "fig07", "fig09", "fig11", "fig12"]
+
+
+rule results_page:
+    input:
+        COMPARISON_OUTPUTS,
+        "results/figures/table1.md",
+        expand("results/figures/{name}.png", name=RESULTS_FIGURES),
+        code=os.path.join(ROOT, "pipeline", "results_page.py"),
+    output:
+        os.path.join(ROOT, "docs", "results.md"),
+    params:
+        python=PYTHON,
+        label=COMPARISON_LABEL,
+        archive=f"--archive {ARCHIVE}" if ARCHIVE else "",
+        figures=" ".join(RESULTS_FIGURES),
+    shell:
+        "{params.python} -m pipeline.results_page --results results --out {output} "
+        "--label '{params.label}' {params.archive} --figures {params.figures}"
