@@ -1,4 +1,5 @@
-"""The results archive and segmented runs (docs/workflow.md, "The results archive"), on a
+"""The results archive and segmented runs (docs/workflow.md, "Runs, segments and the results
+archive"), on a
 tiny study (the initial-position study: two seeds, M 2, level 1) in temporary folders:
 
 - a run stopped after two of its three segments and archived is continued in a fresh
