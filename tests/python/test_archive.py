@@ -1,6 +1,6 @@
-"""The results archive and segmented runs (docs/workflow.md, "Runs, segments and the results
-archive"), on a
-tiny study (the initial-position study: two seeds, M 2, level 1) in temporary folders:
+"""The results archive and segmented runs (docs/workflow.md, "Runs, segments and the
+results archive"), on a tiny study (the initial-position study: two seeds, M 2, level 1)
+in temporary folders:
 
 - a run stopped after two of its three segments and archived is continued in a fresh
   working directory from the archive alone (the new clone of a repository that holds
