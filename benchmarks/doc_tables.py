@@ -112,8 +112,31 @@ def near_corrections(bench, peak):
                  "push and sum", f"times the bound ({bound_ns:.2f} ns)"])
 
 
+def precision_compare(result):
+    """`benchmarks/precision_compare.py --out FILE`: single-precision Spectral-Ewald grids
+    against double on the Table 1 point, side by side: cost, velocity error, averages."""
+    rows = []
+    for level, e in result["levels"].items():
+        d, s = e["runs"]["double"], e["runs"]["single"]
+        err = e["velocity_error"]
+        rows.append({
+            "case": f"level {level}, {e['strain']:g} strain units",
+            "tolerance": f"{d['tolerance']:.2g}",
+            "wall": f"{d['wall_s_per_capsule_strain']:.3g} / "
+                    f"{s['wall_s_per_capsule_strain']:.3g}",
+            "ratio": e["wall_ratio"], "cpu": e["cpu_ratio"],
+            "error": f"{err['double']:.4g} / {err['single']:.4g}",
+            "D": f"{d['D']:.6f} / {s['D']:.6f} ({d['D_se']:.2g})",
+            "mu": f"{d['mu_sp']:.5f} / {s['mu_sp']:.5f} ({d['mu_sp_se']:.2g})"})
+    return markdown_table(
+        pd.DataFrame(rows), formats={"ratio": ".3f", "cpu": ".3f"},
+        headers=["case", "tolerance", "wall s per capsule-strain, double / single",
+                 "ratio", "CPU ratio", "velocity error, double / single",
+                 "<D> double / single (SE)", "mu_sp double / single (SE)"])
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
-             "near_corrections": near_corrections}
+             "near_corrections": near_corrections, "precision_compare": precision_compare}
 
 
 def render(kind, records):
