@@ -107,12 +107,12 @@ class RunSpec:
 
     def seconds_per_strain(self):
         """Estimated wall seconds per unit strain on 2 cores (measured on the Table 1
-        point with the quantitative settings, `capsim run --profile`: level 3, M 27,
-        Ca 0.2 about 22 s, level 4 about 7 times that (docs/performance.md), bending
-        eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s at
-        level 3)."""
-        per_level = 7.0 ** (self.level - 3)
-        base = 0.5 if self.dilute else 21.0 * self.M / 27
+        point with the quantitative settings, benchmarks/records/step_profile.json:
+        level 3, M 27, Ca 0.2 17.5 s, level 4 10.8 times that (docs/performance.md),
+        bending eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s
+        at level 3)."""
+        per_level = 10.8 ** (self.level - 3)
+        base = 0.5 if self.dilute else 17.5 * self.M / 27
         stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
         return base * per_level * stiff * 0.2 / self.ca
 
