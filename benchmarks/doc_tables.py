@@ -135,8 +135,44 @@ def precision_compare(result):
                  "<D> double / single (SE)", "mu_sp double / single (SE)"])
 
 
+BUILD_ROWS = [("membrane load (and repulsion), s/step", "membrane_load"),
+              ("remapping and contact check, s/step", "box_and_contact"),
+              ("sampling, s/step", "sampling"),
+              ("two evaluations, s/step", "evaluations"),
+              ("time loop, s/step", "loop")]
+
+
+def build_compare(result):
+    """`benchmarks/build_compare.py --old OLD --out FILE`: two builds side by side on the
+    Table 1 point (old, new, new, old): stages per step, cost per capsule-strain, and
+    whether the time series are the same."""
+    levels = result["levels"]
+
+    def cells(get):
+        return {f"{w}{lv}": get(e, w) for lv, e in levels.items() for w in ("old", "new")}
+
+    rows = [{"what": label, **cells(lambda e, w, k=key: f"{e['seconds_per_step'][w][k]:.3f}")}
+            for label, key in BUILD_ROWS]
+    for label, key in (("wall s per capsule-strain (mean of two runs)",
+                        "wall_s_per_capsule_strain"),
+                       ("CPU s per capsule-strain", "cpu_s_per_capsule_strain")):
+        rows.append({"what": label, **cells(lambda e, w, k=key: f"{e['builds'][w][k]:.3g}")})
+    for label, key in (("ratio old / new, wall", "wall_ratio"),
+                       ("ratio old / new, CPU", "cpu_ratio")):
+        rows.append({"what": label, **cells(
+            lambda e, w, k=key: f"{e[k]:.3f}" if w == "new" else "")})
+    rows.append({"what": "time series", **cells(
+        lambda e, w: ("identical" if max(e["difference"].values()) == 0 else
+                      f"differ by {max(e['difference'].values()):.1e}")
+        if w == "new" else "")})
+    headers = [""] + [f"level {lv} ({e['strain']:g} strain units): {w}"
+                      for lv, e in levels.items() for w in ("old", "new")]
+    return markdown_table(pd.DataFrame(rows), headers=headers)
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
-             "near_corrections": near_corrections, "precision_compare": precision_compare}
+             "near_corrections": near_corrections, "precision_compare": precision_compare,
+             "build_compare": build_compare}
 
 
 def render(kind, records):
