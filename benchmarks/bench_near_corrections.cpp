@@ -6,7 +6,11 @@
 // them as the periodic single layer does (PairBuffer, stokeslet_sum), per evaluation and
 // per point, and the sum's GFLOP/s at kStokesletPointFlops per point (compare with
 // peak_flops). The near lists are found once, outside the timing: this measures the
-// quadrature, not the search. Prints JSON.
+// quadrature, not the search. Then speed against error: the whole free-space single
+// layer of the same capsule with the quadrature options (far_ratio, near_ratio) of a few
+// settings, its largest and rms velocity error against a tight reference (far_ratio 4,
+// near_ratio 6, depth 9, 24 polar points) relative to the largest velocity, and its near
+// and far seconds (best of 5). Prints JSON.
 #include "mesh/icosphere.hpp"
 #include "stokes/ewald/pair_buffer.hpp"
 #include "stokes/quadrature/near_corrections.hpp"
@@ -31,25 +35,25 @@ constexpr double kStokesletPointFlops = 27;
 
 struct NearCase {
   Topology topo;
-  std::vector<Vec3> x;
+  std::vector<Vec3> x, q; // nodes and load
   std::vector<TriangleLoad> loads;
   std::vector<std::vector<int>> near; // near triangles of each node
 };
 
 NearCase make_case(int level, const QuadratureOptions& quad) {
   const Icosphere mesh = make_icosphere(level);
-  NearCase c{mesh.topology, mesh.positions, {}, {}};
+  NearCase c{
+      mesh.topology, mesh.positions, std::vector<Vec3>(mesh.positions.size()), {}, {}};
   const double s = 1.3;
-  std::vector<Vec3> q(c.x.size());
   for (size_t i = 0; i < c.x.size(); ++i) {
     c.x[i] = {s * c.x[i].x, c.x[i].y / std::sqrt(s), c.x[i].z / std::sqrt(s)};
-    q[i] = {c.x[i].y, 0.3 * c.x[i].x, 0.1 + c.x[i].z};
+    c.q[i] = {c.x[i].y, 0.3 * c.x[i].x, 0.1 + c.x[i].z};
   }
   const int nt = int(c.topo.triangles.size());
   std::vector<Vec3> centroid(nt);
   std::vector<double> diameter(nt);
   for (int t = 0; t < nt; ++t) {
-    c.loads.push_back(triangle_load(c.topo, c.x, q, t));
+    c.loads.push_back(triangle_load(c.topo, c.x, c.q, t));
     centroid[t] = triangle_centroid(c.loads[t].p);
     diameter[t] = triangle_diameter(c.loads[t].p);
   }
@@ -124,11 +128,60 @@ void report(int level, bool last) {
 
 } // namespace
 
+// One setting of the quadrature against the reference velocities `ref` (their largest
+// magnitude `scale`): a JSON object.
+void report_setting(const NearCase& c, const std::vector<Vec3>& ref, double scale,
+                    double far_ratio, double near_ratio, bool last) {
+  QuadratureOptions o;
+  o.far_ratio = far_ratio;
+  o.near_ratio = near_ratio;
+  std::vector<Vec3> u;
+  SingleLayerTimings best;
+  best.near = best.far = 1e300;
+  for (int k = 0; k < 5; ++k) {
+    SingleLayerTimings t;
+    single_layer_velocity(c.topo, 1, c.x, c.q, o, u, &t);
+    best.near = std::min(best.near, t.near), best.far = std::min(best.far, t.far);
+  }
+  double largest = 0, squares = 0;
+  for (size_t i = 0; i < u.size(); ++i) {
+    const double d = norm(u[i] - ref[i]);
+    largest = std::max(largest, d), squares += d * d;
+  }
+  std::printf("        {\"far_ratio\": %g, \"near_ratio\": %g, \"max_error\": %.3e, "
+              "\"rms_error\": %.3e, \"near_seconds\": %.3e, \"far_seconds\": %.3e}%s\n",
+              far_ratio, near_ratio, largest / scale,
+              std::sqrt(squares / u.size()) / scale, best.near, best.far,
+              last ? "" : ",");
+}
+
+void report_settings(int level, bool last) {
+  const NearCase c = make_case(level, QuadratureOptions());
+  QuadratureOptions tight;
+  tight.far_ratio = 4, tight.near_ratio = 6, tight.max_depth = 9,
+  tight.singular_points = 24;
+  std::vector<Vec3> ref;
+  single_layer_velocity(c.topo, 1, c.x, c.q, tight, ref);
+  double scale = 0;
+  for (const Vec3& v : ref)
+    scale = std::max(scale, norm(v));
+  const double settings[][2] = {{2, 1.5},   {2, 1},   {2, 0.75},
+                                {1.5, 1.5}, {1.5, 1}, {3, 1.5}};
+  std::printf("    \"%d\": [\n", level);
+  const int n = int(sizeof settings / sizeof settings[0]);
+  for (int k = 0; k < n; ++k)
+    report_setting(c, ref, scale, settings[k][0], settings[k][1], k == n - 1);
+  std::printf("    ]%s\n", last ? "" : ",");
+}
+
 int main() {
   omp_set_num_threads(1);
   std::printf("{\n  \"threads\": 1,\n  \"flops_per_point\": %.0f,\n  \"levels\": {\n",
               kStokesletPointFlops);
   for (int level = 2; level <= 4; ++level)
     report(level, level == 4);
+  std::printf("  },\n  \"settings\": {\n");
+  for (int level = 2; level <= 4; ++level)
+    report_settings(level, level == 4);
   std::printf("  }\n}\n");
 }

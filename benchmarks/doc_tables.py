@@ -135,6 +135,24 @@ def precision_compare(result):
                  "<D> double / single (SE)", "mu_sp double / single (SE)"])
 
 
+def near_settings(bench):
+    """`build/bench_near_corrections`: the free-space single layer of one capsule with a
+    few quadrature settings, its velocity error against a tight reference and the seconds
+    of its near corrections on one thread, against the default (far_ratio 2, near_ratio
+    1.5)."""
+    rows = []
+    for level, settings in bench["settings"].items():
+        default = next(r for r in settings if r["far_ratio"] == 2 and r["near_ratio"] == 1.5)
+        rows += [{"level": level, "far": r["far_ratio"], "near": r["near_ratio"],
+                  "max": r["max_error"], "rms": r["rms_error"], "s": r["near_seconds"],
+                  "ratio": r["near_seconds"] / default["near_seconds"]} for r in settings]
+    return markdown_table(
+        pd.DataFrame(rows), formats={"far": "g", "near": "g", "max": ".2e", "rms": ".2e",
+                                     "s": ".4f", "ratio": ".2f"},
+        headers=["level", "far_ratio", "near_ratio", "largest error", "rms error",
+                 "near corrections, s", "of the default's"])
+
+
 BUILD_ROWS = [("membrane load (and repulsion), s/step", "membrane_load"),
               ("remapping and contact check, s/step", "box_and_contact"),
               ("sampling, s/step", "sampling"),
@@ -172,7 +190,7 @@ def build_compare(result):
 
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "precision_compare": precision_compare,
-             "build_compare": build_compare}
+             "build_compare": build_compare, "near_settings": near_settings}
 
 
 def render(kind, records):
