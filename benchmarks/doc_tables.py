@@ -112,27 +112,33 @@ def near_corrections(bench, peak):
                  "push and sum", f"times the bound ({bound_ns:.2f} ns)"])
 
 
-def precision_compare(result):
-    """`benchmarks/precision_compare.py --out FILE`: single-precision Spectral-Ewald grids
-    against double on the Table 1 point, side by side: cost, velocity error, averages."""
+def setting_compare(result):
+    """`benchmarks/precision_compare.py --out FILE [--baseline ..] [--candidate ..]`: two
+    settings side by side on the Table 1 point: cost, the averages, and for the grid
+    precision the velocity error."""
     rows = []
     for level, e in result["levels"].items():
-        d, s = e["runs"]["double"], e["runs"]["single"]
-        err = e["velocity_error"]
+        d, s = e["runs"]["baseline"], e["runs"]["candidate"]
+        err = e.get("velocity_error")
         rows.append({
             "case": f"level {level}, {e['strain']:g} strain units",
             "tolerance": f"{d['tolerance']:.2g}",
             "wall": f"{d['wall_s_per_capsule_strain']:.3g} / "
                     f"{s['wall_s_per_capsule_strain']:.3g}",
             "ratio": e["wall_ratio"], "cpu": e["cpu_ratio"],
-            "error": f"{err['double']:.4g} / {err['single']:.4g}",
+            "error": f"{err['baseline']:.4g} / {err['candidate']:.4g}" if err else "",
             "D": f"{d['D']:.6f} / {s['D']:.6f} ({d['D_se']:.2g})",
             "mu": f"{d['mu_sp']:.5f} / {s['mu_sp']:.5f} ({d['mu_sp_se']:.2g})"})
-    return markdown_table(
-        pd.DataFrame(rows), formats={"ratio": ".3f", "cpu": ".3f"},
-        headers=["case", "tolerance", "wall s per capsule-strain, double / single",
-                 "ratio", "CPU ratio", "velocity error, double / single",
-                 "<D> double / single (SE)", "mu_sp double / single (SE)"])
+    names = {w: ", ".join(f"{k} {v}" for k, v in o.items())
+             for w, o in result["settings"].items()}
+    pair = f"{names['baseline']} / {names['candidate']}"
+    table = pd.DataFrame(rows)
+    if not table["error"].any():
+        table = table.drop(columns="error")
+    headers = ["case", "tolerance", f"wall s per capsule-strain, {pair}", "ratio",
+               "CPU ratio"] + (["velocity error"] if "error" in table else []) + [
+        "<D> (SE)", "mu_sp (SE)"]
+    return markdown_table(table, formats={"ratio": ".3f", "cpu": ".3f"}, headers=headers)
 
 
 def near_settings(bench):
@@ -189,7 +195,7 @@ def build_compare(result):
 
 
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
-             "near_corrections": near_corrections, "precision_compare": precision_compare,
+             "near_corrections": near_corrections, "setting_compare": setting_compare,
              "build_compare": build_compare, "near_settings": near_settings}
 
 

@@ -1,17 +1,19 @@
-"""Single-precision Spectral-Ewald grids against double, side by side on the workflow's
-runs: speed and accuracy in one invocation.
+"""Two settings of capsim side by side on the workflow's runs: speed and accuracy in one
+invocation; by default single-precision Spectral-Ewald grids against double.
 
     .venv/bin/python benchmarks/precision_compare.py [--out results/benchmarks/precision.json]
+        [--baseline KEY=VALUE ...] [--candidate KEY=VALUE ...]
 
 For each case (the Table 1 point at level 3 over 3 strain units and at level 4 over 0.5,
 the quantitative configuration's settings: benchmarks/step_profile.py) it runs capsim with
-`ewald.precision` double and single, one after the other (so each ratio is measured on
-the same machine minutes apart), and reports wall and CPU seconds per capsule per unit
-strain with the in-situ seconds of the reciprocal stages, the averages <D> and mu_sp over
-the second half of each run with their standard errors (analysis.averages) and their
-difference in units of the standard error; and from `capsim bench` (M 27 stretched capsules at the same phi and level),
-the velocity error of each against a tight direct-Ewald reference at the tolerance the
-runs use. Run it on an otherwise idle machine.
+the baseline's options and the candidate's (default `ewald.precision` double and single),
+one after the other (so each ratio is measured on the same machine minutes apart), and
+reports wall and CPU seconds per capsule per unit strain with the in-situ seconds of every
+stage, the averages <D> and mu_sp over the second half of each run with their standard
+errors (analysis.averages) and their difference in units of the standard error; and, for
+the grid precision, from `capsim bench` (M 27 stretched capsules at the same phi and
+level) the velocity error of each against a tight direct-Ewald reference at the tolerance
+the runs use. Run it on an otherwise idle machine.
 """
 
 import argparse
@@ -72,35 +74,41 @@ def velocity_error(level, tolerance, precision, threads, reference):
     return json.loads(out.stdout)["rel_error"]
 
 
+def options(pairs):
+    """{key: value} of KEY=VALUE arguments."""
+    return dict(p.split("=", 1) for p in pairs)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--baseline", nargs="+", default=["ewald.precision=double"])
+    ap.add_argument("--candidate", nargs="+", default=["ewald.precision=single"])
     ap.add_argument("--out", help="also write the JSON here")
     args = ap.parse_args()
-    result = {"case": CASE, "threads": args.threads, "levels": {}}
+    settings = {"baseline": options(args.baseline), "candidate": options(args.candidate)}
+    result = {"case": CASE, "threads": args.threads, "settings": settings, "levels": {}}
     with tempfile.TemporaryDirectory() as scratch:
         for level, strain in CASES.items():
-            runs = {p: run(level, strain, args.threads, Path(scratch) / f"l{level}_{p}",
-                           **{"ewald.precision": p})
-                    for p in ("double", "single")}
-            d, s = runs["double"], runs["single"]
-            tol = d["tolerance"]
-            ref = Path(scratch) / f"reference_l{level}.h5"
+            runs = {w: run(level, strain, args.threads, Path(scratch) / f"l{level}_{w}", **o)
+                    for w, o in settings.items()}
+            d, s = runs["baseline"], runs["candidate"]
             entry = {"strain": strain, "runs": runs,
                      "wall_ratio": s["wall_s_per_capsule_strain"] / d["wall_s_per_capsule_strain"],
                      "cpu_ratio": s["cpu_s_per_capsule_strain"] / d["cpu_s_per_capsule_strain"],
                      "D_difference_in_se": abs(s["D"] - d["D"]) / d["D_se"],
-                     "mu_sp_difference_in_se": abs(s["mu_sp"] - d["mu_sp"]) / d["mu_sp_se"],
-                     "velocity_error": {p: velocity_error(level, tol, p, args.threads, ref)
-                                        for p in ("double", "single")}}
+                     "mu_sp_difference_in_se": abs(s["mu_sp"] - d["mu_sp"]) / d["mu_sp_se"]}
+            if all(set(o) == {"ewald.precision"} for o in settings.values()):
+                ref = Path(scratch) / f"reference_l{level}.h5"
+                entry["velocity_error"] = {
+                    w: velocity_error(level, d["tolerance"], o["ewald.precision"],
+                                      args.threads, ref) for w, o in settings.items()}
             result["levels"][level] = entry
-            print(f"level {level}: tolerance {tol:.3g}, wall ratio {entry['wall_ratio']:.3f}, "
-                  f"CPU ratio {entry['cpu_ratio']:.3f}; <D> {d['D']:.6f} / {s['D']:.6f} "
-                  f"(difference {entry['D_difference_in_se']:.2g} SE), mu_sp "
-                  f"{d['mu_sp']:.5f} / {s['mu_sp']:.5f} "
-                  f"({entry['mu_sp_difference_in_se']:.2g} SE); velocity error "
-                  f"{entry['velocity_error']['double']:.3g} / "
-                  f"{entry['velocity_error']['single']:.3g}", file=sys.stderr)
+            print(f"level {level}: tolerance {d['tolerance']:.3g}, wall ratio "
+                  f"{entry['wall_ratio']:.3f}, CPU ratio {entry['cpu_ratio']:.3f}; <D> "
+                  f"{d['D']:.6f} / {s['D']:.6f} ({entry['D_difference_in_se']:.2g} SE), "
+                  f"mu_sp {d['mu_sp']:.5f} / {s['mu_sp']:.5f} "
+                  f"({entry['mu_sp_difference_in_se']:.2g} SE)", file=sys.stderr)
     print_json(result, args.out)
 
 
