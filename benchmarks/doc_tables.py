@@ -53,14 +53,14 @@ def step_profile(profile):
     def seconds(level, keys):
         return sum(level["seconds_per_step"][k] for k in keys)
 
+    whole3, whole4 = seconds(l3, ["loop"]), seconds(l4, ["loop"])
+    grids = ", ".join("x".join(map(str, lv["rates"]["grid"])) for lv in (l3, l4))
     rows = []
     for label, keys in STEP_ROWS:
         s3, s4 = seconds(l3, keys), seconds(l4, keys)
-        whole3, whole4 = seconds(l3, ["loop"]), seconds(l4, ["loop"])
-        rows.append({"stage": label, "s3": s3, "p3": 100 * s3 / whole3, "s4": s4,
-                     "p4": 100 * s4 / whole4, "growth": s4 / s3 if s3 > 0 else float("nan")})
-    grid3, grid4 = (("x".join(map(str, lv["rates"]["grid"]))) for lv in (l3, l4))
-    rows[6]["stage"] = f"of which FFT (grid {grid3}, {grid4})"
+        rows.append({"stage": label + (f" (grid {grids})" if keys == ["fft"] else ""),
+                     "s3": s3, "p3": 100 * s3 / whole3, "s4": s4, "p4": 100 * s4 / whole4,
+                     "growth": s4 / s3 if s3 > 0 else float("nan")})
     return markdown_table(
         pd.DataFrame(rows), formats={"s3": ".3f", "p3": ".1f", "s4": ".3f", "p4": ".1f",
                                      "growth": ".1f"},
