@@ -350,13 +350,17 @@ def replay(record_dir, capsim, threads=None, span=None):
             return stop - start, diff
 
 
-def summary(paths):
-    """{"records", "finished", "bytes", "cpu_seconds", "physics_versions"} of the records
-    under `paths` (damaged records raise ArchiveError)."""
+def read_records(paths):
+    """(folder, record) of every record under `paths`, checked (read_record)."""
+    return [(path, read_record(path)) for path in _records(paths)]
+
+
+def summary(records):
+    """{"records", "finished", "bytes", "cpu_seconds", "physics_versions"} of (folder,
+    record) pairs."""
     out = {"records": 0, "finished": 0, "bytes": 0, "cpu_seconds": 0.0,
            "physics_versions": set()}
-    for path in _records(paths):
-        record = read_record(path)
+    for path, record in records:
         out["records"] += 1
         out["finished"] += bool(record["finished"])
         out["bytes"] += sum(f.stat().st_size for f in path.iterdir())
@@ -382,7 +386,7 @@ def main(argv=None):
                                             "build" / "capsim"),
                     help="the solver, for replay (default build/capsim)")
     args = ap.parse_args(argv)
-    bad = 0
+    bad, sound = 0, []
     current = physics_version()
     for path in _records(args.paths):
         try:
@@ -391,6 +395,7 @@ def main(argv=None):
             print(e, file=sys.stderr)
             bad += 1
             continue
+        sound.append((path, record))
         if args.command == "replay":
             if record["state_time"] is None or record["state_time"] >= record["t_reached"]:
                 continue
@@ -410,7 +415,7 @@ def main(argv=None):
     if args.command == "verify":
         print(f"archive: {bad} bad record(s)" if bad else "archive: every record is sound")
     if args.command == "list" and not bad:
-        total = summary(args.paths)
+        total = summary(sound)
         print(f"archive: {total['records']} records, {total['bytes'] / 1e6:.1f} MB, "
               f"{total['cpu_seconds']:.0f} CPU s ({total['cpu_seconds'] / 3600:.1f} h)")
     return 1 if bad else 0

@@ -27,7 +27,7 @@ FIGURES = ["fig03", "fig05", "fig07", "fig09", "fig11", "fig12"]
 
 def archive_line(store):
     """One sentence on the results archive the runs came from."""
-    s = archive.summary([store])
+    s = archive.summary(archive.read_records([store]))
     store = Path(store).resolve()
     shown = store.relative_to(ROOT) if store.is_relative_to(ROOT) else store
     versions = ", ".join(sorted(s["physics_versions"])) or physics_version()
@@ -52,12 +52,12 @@ def page(results, label, figures, figure_dir, store=None, date=None):
               "", "## Figures", ""]
     figure_dir.mkdir(parents=True, exist_ok=True)
     for name in figures:
-        png = results / "figures" / f"{name}.png"
+        png, number = results / "figures" / f"{name}.png", name[3:].lstrip("0")
         if not png.exists():
-            lines += [f"Figure {name[3:].lstrip('0')}: not in this configuration.", ""]
+            lines += [f"Figure {number}: not in this configuration.", ""]
             continue
         shutil.copyfile(png, figure_dir / png.name)
-        lines += [f"![Figure {name[3:].lstrip('0')}]({figure_dir.name}/{png.name})", ""]
+        lines += [f"![Figure {number}]({figure_dir.name}/{png.name})", ""]
     return "\n".join(lines)
 
 

@@ -12,7 +12,7 @@ from modulefinder import ModuleFinder
 from analysis import accuracy as accuracy_study
 from analysis import membrane as membrane_codes
 from analysis import sensitivity as sensitivity_study
-from pipeline import archive, run_spec
+from pipeline import archive, results_page, run_spec
 from pipeline.command_line import set_options
 
 SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]

@@ -123,14 +123,11 @@ rule paper_comparison:
 # a target of its own, outside `all`, since it writes into the repository's docs
 # (pipeline/results_page.py). `snakemake results_page --configfile config/quantitative.yaml`
 # publishes the quantitative reproduction.
-RESULTS_FIGURES = ["fig03", "fig05", "fig07", "fig09", "fig11", "fig12"]
-
-
 rule results_page:
     input:
         COMPARISON_OUTPUTS,
         "results/figures/table1.md",
-        expand("results/figures/{name}.png", name=RESULTS_FIGURES),
+        expand("results/figures/{name}.png", name=results_page.FIGURES),
         code=os.path.join(ROOT, "pipeline", "results_page.py"),
     output:
         os.path.join(ROOT, "docs", "results.md"),
@@ -138,7 +135,6 @@ rule results_page:
         python=PYTHON,
         label=COMPARISON_LABEL,
         archive=f"--archive {ARCHIVE}" if ARCHIVE else "",
-        figures=" ".join(RESULTS_FIGURES),
     shell:
         "{params.python} -m pipeline.results_page --results results --out {output} "
-        "--label '{params.label}' {params.archive} --figures {params.figures}"
+        "--label '{params.label}' {params.archive}"
