@@ -327,9 +327,16 @@ def replay(record_dir, capsim, threads=None, span=None):
     with tempfile.TemporaryDirectory() as scratch:
         run_dir = Path(scratch) / "run"
         restore(record_dir, run_dir, record, full=False)
-        subprocess.run([str(capsim), "run", "-q", "--resume", str(run_dir), "--set",
-                        f"t_end={t_end}", "--set", f"threads={threads}"],
-                       check=True, capture_output=True)
+        # The averaging window only shapes the summary, not the rows; it opens at the
+        # state so that a replay ending before the record's window (a state at t 0)
+        # is still a valid run.
+        done = subprocess.run([str(capsim), "run", "-q", "--resume", str(run_dir), "--set",
+                               f"t_end={t_end}", "--set",
+                               f"t_avg_start={record['state_time']}", "--set",
+                               f"threads={threads}"], capture_output=True, text=True)
+        if done.returncode != 0:
+            raise ArchiveError(f"archive record {record_dir}: the replay failed "
+                               f"(exit {done.returncode}): {done.stderr.strip()}")
         with h5py.File(record_dir / SERIES, "r") as a, \
                 h5py.File(run_dir / SERIES, "r") as b:
             start = int(np.searchsorted(a["time"][()], record["state_time"], "right"))
