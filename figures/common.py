@@ -94,7 +94,9 @@ def footer(rows, t_start=None):
     run table), the membrane of each point, and the runs that stopped early (averaged up
     to their stop, or without data)."""
     # A table without the column (or a cell left empty) means the runs ran to their end.
-    ended = rows["ended"].fillna("t_end") if "ended" in rows else pd.Series("t_end", rows.index)
+    # (an all-empty column reads as float, hence the cast before the text fill).
+    ended = (rows["ended"].astype(object).fillna("t_end") if "ended" in rows
+             else pd.Series("t_end", rows.index))
     finished = rows[ended == "t_end"]
     if finished.empty:
         finished = rows

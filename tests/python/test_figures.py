@@ -3,14 +3,16 @@ PNG/PDF/CSV, and the CSV holds the values the synthetic data were built from."""
 
 import json
 import math
-import subprocess
+import runpy
 import sys
 from pathlib import Path
 
 import h5py
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from analysis import coefficients
 from analysis.rheology import stress_factor
 from analysis.statistics import standard_error
 from analysis.tables import COLUMNS, read_table, select, write_table
@@ -64,17 +66,31 @@ def grid_table(tmp_path_factory):
 COEFFICIENT_FIGURES = ("fig05", "fig06", "fig07", "fig08", "fig10")  # read results/grid/fits.csv
 
 
+def run_script(script, *args):
+    """Runs a figure script under figures/ as its command line does, in this process:
+    the same __main__ block, without a new interpreter importing matplotlib and pandas
+    again (about 3 s a call)."""
+    argv, path = sys.argv, list(sys.path)
+    sys.argv = [str(script), *map(str, args)]
+    sys.path.insert(0, str(script.parent))  # a script imports its folder's common
+    try:
+        runpy.run_path(str(script), run_name="__main__")
+    except SystemExit as stop:
+        assert not stop.code, f"{script} exited with {stop.code}"
+    finally:
+        sys.argv, sys.path[:] = argv, path
+        plt.close("all")
+
+
 def run_figure(name, out_dir, *inputs):
     """Run one figure script as the workflow does; a figure drawn with the section 4.2
     coefficients is given the grid table and its coefficient table (analysis.coefficients)."""
     out = out_dir / name
     if name in COEFFICIENT_FIGURES and len(inputs) == 1:
         fits_table = out_dir / f"{name}_fits.csv"
-        subprocess.run([sys.executable, "-m", "analysis.coefficients", "--out",
-                        str(fits_table), str(inputs[0])], check=True, cwd=ROOT)
+        assert coefficients.main(["--out", str(fits_table), str(inputs[0])]) == 0
         inputs = (*inputs, fits_table)
-    subprocess.run([sys.executable, str(ROOT / "figures" / f"{name}.py"), "--out", str(out),
-                    *map(str, inputs)], check=True, capture_output=True, text=True)
+    run_script(ROOT / "figures" / f"{name}.py", "--out", out, *inputs)
     for ext in ("png", "pdf", "csv"):
         assert (out_dir / f"{name}.{ext}").stat().st_size > 0
     return read_table(out_dir / f"{name}.csv")
@@ -211,8 +227,7 @@ def test_table1_prints_value_and_standard_error(tmp_path):
              for s, (d, se) in enumerate([(0.37, 0.03), (0.38, 0.04), (0.39, 0.12)], 1)]
     path = tmp_path / "mesh.csv"
     write_table(path, rows, COLUMNS)
-    subprocess.run([sys.executable, str(ROOT / "figures" / "table1.py"), "--out",
-                    str(tmp_path / "table1"), str(path)], check=True, capture_output=True)
+    run_script(ROOT / "figures" / "table1.py", "--out", tmp_path / "table1", path)
     text = (tmp_path / "table1.md").read_text()
     assert "| 80 | 0.36000 +- 0.0026 |" in text
     assert "| 320 (average): reference | 0.38000 +- 0.043 | - |" in text
