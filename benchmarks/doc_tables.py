@@ -194,9 +194,22 @@ def build_compare(result):
     return markdown_table(pd.DataFrame(rows), headers=headers)
 
 
+def ewald_accuracy(rows):
+    """`benchmarks/ewald_report.py accuracy --capsules 27 --mesh-level 2`: the RMS relative
+    error of each method against the requested tolerance, at lattice strains 0 and 0.5."""
+    table = pd.DataFrame(rows).pivot(index="tolerance", columns=["method", "strain"],
+                                     values="rel_error")
+    columns = [(m, s) for m in ("spectral", "direct", "patches") for s in (0.0, 0.5)
+               if (m, s) in table]
+    names = [f"{m}, strain {s:g}" for m, s in columns]
+    table = table[columns].set_axis(names, axis=1).sort_index(ascending=False).reset_index()
+    return markdown_table(table, formats={"tolerance": ".0e"} | {c: ".2e" for c in names})
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "setting_compare": setting_compare,
-             "build_compare": build_compare, "near_settings": near_settings}
+             "build_compare": build_compare, "near_settings": near_settings,
+             "ewald_accuracy": ewald_accuracy}
 
 
 def render(kind, records):

@@ -41,6 +41,7 @@ def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=Tru
            "--phi", str(phi), "--method", method, "--tolerance", str(tolerance),
            "--strain", str(strain), "--repeats", str(repeats)]
     if reference:
+        OUT.mkdir(parents=True, exist_ok=True)  # capsim writes the reference there
         ref = OUT / f"reference_M{capsules}_L{level}_phi{phi}_s{strain}.bin"
         cmd += ["--reference", str(ref)]
     else:
