@@ -52,6 +52,7 @@ if ARCHIVE:
     except archive.ArchiveError as e:
         raise WorkflowError(f"{e}: refused. Restore it from git (git checkout -- "
                             "<record>) or delete it to compute the run anew.")
+report_remaining(main_runs().values())
 
 
 rule all:

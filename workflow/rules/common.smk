@@ -90,9 +90,9 @@ def dilute_summary(ca, level):
 DILUTE_KEYS = []
 
 
-def configuration_runs():
-    """Every run of the configuration's studies, by folder: what the archive restores
-    and records."""
+def main_runs():
+    """The runs of the main studies (the suspension studies and the dilute runs they
+    use: what the target all needs), by folder."""
     runs = {}
     for study in SUSPENSION_STUDIES:
         for keys in STUDY_KEYS.get(study, lambda: [])():
@@ -102,6 +102,13 @@ def configuration_runs():
         for ca, level in keys():
             spec = run_spec.dilute(ca, level, config["dilute"])
             runs[spec.folder] = spec
+    return runs
+
+
+def configuration_runs():
+    """Every run of the configuration's studies, by folder: what the archive restores
+    and records (the main runs, then the accuracy and sensitivity studies')."""
+    runs = main_runs()
     block = config["accuracy"]
     for setting in accuracy_study.run_names(block).values():
         spec = run_spec.accuracy(setting, block["sample_interval"])
@@ -169,3 +176,18 @@ def report_archive(report):
             shown = ", ".join(folders[:4]) + (", ..." if len(folders) > 4 else "")
             print(f"archive {config['archive']}: {len(folders)} run(s) {words[kind]}: "
                   f"{shown}", file=sys.stderr)
+
+
+def report_remaining(runs):
+    """One line on stderr: how many of the main runs results/ does not hold finished,
+    and their estimated wall time on 2 cores from where each stands
+    (RunSpec.seconds_per_strain, within 0.9-1.45 of the CPU time that the quantitative
+    archive's runs took: docs/workflow.md)."""
+    left, seconds = 0, 0.0
+    for spec in runs:
+        state = archive.reached(spec.folder)
+        if state is None or not state[0]:
+            left += 1
+            seconds += spec.seconds_per_strain() * (spec.t_end - (state[1] if state else 0.0))
+    print(f"main studies: {left} of {len(runs)} runs to compute, about "
+          f"{seconds / 3600:.1f} h of 2-core wall time (estimated)", file=sys.stderr)
