@@ -206,10 +206,39 @@ def ewald_accuracy(rows):
     return markdown_table(table, formats={"tolerance": ".0e"} | {c: ".2e" for c in names})
 
 
+# The stages of one evaluation that `capsim bench` times ("seconds"), in table order.
+EWALD_STAGES = ["real_space", "near", "spreading", "fft", "gathering"]
+
+
+def stage_seconds(rows):
+    """The seconds of each stage of `capsim bench` outputs, one row per output (NaN for a
+    stage not timed: only Spectral Ewald spreads, transforms and gathers)."""
+    return pd.DataFrame([r["seconds"] for r in rows]).reindex(columns=EWALD_STAGES)
+
+
+def grid_text(r):
+    """The spectral grid of a `capsim bench` output as M_x x M_y x M_z, '-' for the other
+    methods."""
+    return "x".join(str(int(m)) for m in r["grid"]) if "grid" in r else "-"
+
+
+def ewald_speed(rows):
+    """`benchmarks/ewald_report.py speed --capsules M --mesh-level 3`: seconds per
+    evaluation and per stage against the achieved error, per method and tolerance (0 s
+    for the stages a method does not have)."""
+    table = pd.DataFrame(rows)[["method", "tolerance", "rel_error", "seconds_per_eval"]]
+    table = pd.concat([table, stage_seconds(rows).fillna(0.0)], axis=1).assign(
+        grid=[grid_text(r) for r in rows], r_cut=[r["r_cut"] for r in rows])
+    return markdown_table(table, {"tolerance": ".0e", "rel_error": ".2e", "r_cut": ".2f"}
+                          | {k: ".3f" for k in ["seconds_per_eval"] + EWALD_STAGES},
+                          ["method", "tolerance", "rel. error", "s/eval", "real space", "near",
+                           "spreading", "FFT", "gathering", "grid", "r_cut"])
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "setting_compare": setting_compare,
              "build_compare": build_compare, "near_settings": near_settings,
-             "ewald_accuracy": ewald_accuracy}
+             "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed}
 
 
 def render(kind, records):

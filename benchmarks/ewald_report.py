@@ -26,6 +26,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis.tables import markdown_table  # noqa: E402
+from doc_tables import EWALD_STAGES, ewald_speed, grid_text, stage_seconds  # noqa: E402
 from pipeline.command_line import run_command  # noqa: E402
 from pipeline.run_spec import RunSpec  # noqa: E402
 
@@ -100,15 +101,7 @@ def accuracy(capsules, level, methods):
 def speed(capsules, level, methods):
     rows = [bench(capsules, level, method, tol, repeats=4 if method == "spectral" else 1)
             for method in methods for tol in SPEED_TOLERANCES[method]]
-    # Only the spectral method spreads, transforms and gathers: 0 s for the others.
-    table = pd.concat([pd.DataFrame(rows)[["method", "tolerance", "rel_error",
-                                           "seconds_per_eval"]],
-                       timings(rows).fillna({k: 0.0 for k in SPECTRAL_STAGES})], axis=1)
-    table = table.assign(grid=[grid_text(r) for r in rows], r_cut=[r["r_cut"] for r in rows])
-    text = markdown_table(table, {"tolerance": ".0e", "rel_error": ".2e", "r_cut": ".2f"}
-                          | {k: ".3f" for k in ["seconds_per_eval"] + STAGES},
-                          ["method", "tolerance", "rel. error", "s/eval", "real space", "near",
-                           "spreading", "FFT", "gathering", "grid", "r_cut"])
+    text = ewald_speed(rows)
     name = f"speed_M{capsules}_L{level}" + suffix(methods)
     save(name, rows, text + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -129,9 +122,9 @@ def scaling(level, tolerance=1e-4):
     seconds = np.array([r["seconds_per_eval"] for r in rows])
     slope = np.polyfit(np.log(sources), np.log(seconds), 1)[0]
     table = pd.concat([pd.DataFrame(rows)[["capsules", "sources", "nodes", "seconds_per_eval"]],
-                       timings(rows)], axis=1).assign(grid=[grid_text(r) for r in rows])
+                       stage_seconds(rows)], axis=1).assign(grid=[grid_text(r) for r in rows])
     lines = [f"Fitted slope d log(seconds) / d log(sources) = {slope:.3f}", "",
-             markdown_table(table, {k: ".3f" for k in ["seconds_per_eval"] + STAGES},
+             markdown_table(table, {k: ".3f" for k in ["seconds_per_eval"] + EWALD_STAGES},
                             ["capsules", "sources", "nodes", "s/eval", "real space", "near",
                              "spreading", "FFT", "gathering", "grid"])]
     name = f"scaling_L{level}"
@@ -185,21 +178,6 @@ def step(capsules, level, methods, tolerance=1e-4):
     if tolerance != 1e-4:
         name += f"_tol{tolerance:g}"
     save(name, rows, text + "\n")
-
-
-# The stages of one evaluation that `capsim bench` times ("seconds"), in table order.
-STAGES = ["real_space", "near", "spreading", "fft", "gathering"]
-SPECTRAL_STAGES = ["spreading", "fft", "gathering"]
-
-
-def timings(rows):
-    """The seconds of each stage, one row per benchmark (NaN for a stage not timed)."""
-    return pd.DataFrame([r["seconds"] for r in rows]).reindex(columns=STAGES)
-
-
-def grid_text(r):
-    """The spectral grid as M_x x M_y x M_z, '-' for the other methods."""
-    return "x".join(str(int(m)) for m in r["grid"]) if "grid" in r else "-"
 
 
 def suffix(methods):
