@@ -224,15 +224,15 @@ def grid_text(r):
 
 def ewald_speed(rows):
     """`benchmarks/ewald_report.py speed --capsules M --mesh-level 3`: seconds per
-    evaluation and per stage against the achieved error, per method and tolerance (0 s
+    evaluation and per stage against the achieved error, per method and tolerance ('-'
     for the stages a method does not have)."""
     table = pd.DataFrame(rows)[["method", "tolerance", "rel_error", "seconds_per_eval"]]
-    table = pd.concat([table, stage_seconds(rows).fillna(0.0)], axis=1).assign(
+    table = pd.concat([table, stage_seconds(rows)], axis=1).assign(
         grid=[grid_text(r) for r in rows], r_cut=[r["r_cut"] for r in rows])
     return markdown_table(table, {"tolerance": ".0e", "rel_error": ".2e", "r_cut": ".2f"}
                           | {k: ".3f" for k in ["seconds_per_eval"] + EWALD_STAGES},
                           ["method", "tolerance", "rel. error", "s/eval", "real space", "near",
-                           "spreading", "FFT", "gathering", "grid", "r_cut"])
+                           "spreading", "FFT", "gathering", "grid", "r_cut"], na_rep="-")
 
 
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
