@@ -235,10 +235,27 @@ def ewald_speed(rows):
                            "spreading", "FFT", "gathering", "grid", "r_cut"], na_rep="-")
 
 
+def xi_table(rows):
+    """`benchmarks/ewald_report.py xi --capsules 27 --mesh-level L --tolerance T`: Spectral
+    Ewald at its automatic xi and around it, seconds per evaluation and the error."""
+    table = pd.DataFrame(rows)
+    table = table.assign(
+        xi=[f"{r['xi']:.2f}" + (" automatic" if r["automatic"] else "") for r in rows],
+        grid=[grid_text(r) for r in rows],
+        real=[r["seconds"]["real_space"] for r in rows],
+        reciprocal=[r["seconds"]["reciprocal"] for r in rows])
+    return markdown_table(
+        table[["xi", "r_cut", "grid", "seconds_per_eval", "real", "reciprocal", "rel_error"]],
+        {"r_cut": ".2f", "seconds_per_eval": ".3f", "real": ".3f", "reciprocal": ".3f",
+         "rel_error": ".2e"},
+        ["xi", "r_cut", "grid", "s/eval", "real space", "reciprocal", "rel. error"])
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "setting_compare": setting_compare,
              "build_compare": build_compare, "near_settings": near_settings,
-             "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed}
+             "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed,
+             "xi_table": xi_table}
 
 
 def render(kind, records):

@@ -26,7 +26,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis.tables import markdown_table  # noqa: E402
-from doc_tables import EWALD_STAGES, ewald_speed, grid_text, stage_seconds  # noqa: E402
+from doc_tables import (EWALD_STAGES, ewald_speed, grid_text, stage_seconds,  # noqa: E402
+                        xi_table)
 from pipeline.command_line import run_command  # noqa: E402
 from pipeline.run_spec import RunSpec  # noqa: E402
 
@@ -36,11 +37,13 @@ CAPSIM = ROOT / "build" / "capsim"
 
 
 def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=True,
-          repeats=2):
-    """One `capsim bench` run; returns its JSON as a dict."""
+          repeats=2, xi=None):
+    """One `capsim bench` run (xi None: the automatic one); returns its JSON as a dict."""
     cmd = [str(CAPSIM), "bench", "--capsules", str(capsules), "--mesh-level", str(level),
            "--phi", str(phi), "--method", method, "--tolerance", str(tolerance),
            "--strain", str(strain), "--repeats", str(repeats)]
+    if xi is not None:
+        cmd += ["--xi", str(xi)]
     if reference:
         OUT.mkdir(parents=True, exist_ok=True)  # capsim writes the reference there
         ref = OUT / f"reference_M{capsules}_L{level}_phi{phi}_s{strain}.bin"
@@ -136,6 +139,18 @@ def scaling(level, tolerance=1e-4):
                 "seconds per evaluation (2 cores)", f"level {level}, phi 0.3, slope {slope:.2f}")
 
 
+def xi_scan(capsules, level, tolerance, factors=(0.7, 0.85, 1.15, 1.3)):
+    """Spectral Ewald at the automatic xi and at `factors` times it: whether the automatic
+    choice (spectral_xi's cost model) is the fastest in situ, at the same tolerance."""
+    auto = bench(capsules, level, "spectral", tolerance, repeats=3)
+    rows = [auto | {"automatic": True}] + [
+        bench(capsules, level, "spectral", tolerance, repeats=3, xi=f * auto["xi"])
+        | {"automatic": False} for f in factors]
+    rows.sort(key=lambda r: r["xi"])
+    name = f"xi_M{capsules}_L{level}"
+    save(name, rows, xi_table(rows) + "\n")
+
+
 def step_run_spec(capsules, level, method, steps, tolerance):
     """A run of `steps` RK2 steps near the automatic dt, at Ca 0.2 and phi 0.3."""
     dt = 0.5 * 0.2 * {1: 0.62, 2: 0.31, 3: 0.155, 4: 0.078}[level]  # near the auto dt
@@ -187,13 +202,13 @@ def suffix(methods):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("study", choices=["accuracy", "speed", "scaling", "step"])
+    p.add_argument("study", choices=["accuracy", "speed", "scaling", "step", "xi"])
     p.add_argument("--capsules", type=int, default=27)
     p.add_argument("--mesh-level", type=int, default=3)
     p.add_argument("--methods", default="spectral,direct,patches",
                    help="comma-separated methods for accuracy, speed and step")
     p.add_argument("--tolerance", type=float, default=1e-4,
-                   help="step: the Ewald tolerance of the runs (that of `capsim run`: 1e-6)")
+                   help="step and xi: the Ewald tolerance (step: that of `capsim run`, 1e-6)")
     a = p.parse_args()
     methods = a.methods.split(",")
     if a.study == "accuracy":
@@ -202,6 +217,8 @@ def main():
         speed(a.capsules, a.mesh_level, methods)
     elif a.study == "step":
         step(a.capsules, a.mesh_level, methods, a.tolerance)
+    elif a.study == "xi":
+        xi_scan(a.capsules, a.mesh_level, a.tolerance)
     else:
         scaling(a.mesh_level)
 
