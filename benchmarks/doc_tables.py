@@ -251,11 +251,25 @@ def xi_table(rows):
         ["xi", "r_cut", "grid", "s/eval", "real space", "reciprocal", "rel. error"])
 
 
+def ewald_scaling(result):
+    """`benchmarks/ewald_report.py scaling --mesh-level 3`: Spectral Ewald's seconds per
+    evaluation and per stage against the number of sources, and the fitted slope of
+    log(seconds) against log(sources)."""
+    rows = result["runs"]
+    table = pd.concat([pd.DataFrame(rows)[["capsules", "sources", "nodes", "seconds_per_eval"]],
+                       stage_seconds(rows)], axis=1).assign(grid=[grid_text(r) for r in rows])
+    text = markdown_table(table, {k: ".3f" for k in ["seconds_per_eval"] + EWALD_STAGES},
+                          ["capsules", "sources", "nodes", "s/eval", "real space", "near",
+                           "spreading", "FFT", "gathering", "grid"])
+    return (f"Fitted slope d log(seconds) / d log(sources) = {result['slope']:.3f}\n\n"
+            + text)
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "setting_compare": setting_compare,
              "build_compare": build_compare, "near_settings": near_settings,
              "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed,
-             "xi_table": xi_table}
+             "xi_table": xi_table, "ewald_scaling": ewald_scaling}
 
 
 def render(kind, records):

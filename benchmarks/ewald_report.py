@@ -26,8 +26,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis.tables import markdown_table  # noqa: E402
-from doc_tables import (EWALD_STAGES, ewald_speed, grid_text, stage_seconds,  # noqa: E402
-                        xi_table)
+from doc_tables import ewald_scaling, ewald_speed, xi_table  # noqa: E402
 from pipeline.command_line import run_command  # noqa: E402
 from pipeline.run_spec import RunSpec  # noqa: E402
 
@@ -124,14 +123,9 @@ def scaling(level, tolerance=1e-4):
     sources = np.array([r["sources"] for r in rows], float)
     seconds = np.array([r["seconds_per_eval"] for r in rows])
     slope = np.polyfit(np.log(sources), np.log(seconds), 1)[0]
-    table = pd.concat([pd.DataFrame(rows)[["capsules", "sources", "nodes", "seconds_per_eval"]],
-                       stage_seconds(rows)], axis=1).assign(grid=[grid_text(r) for r in rows])
-    lines = [f"Fitted slope d log(seconds) / d log(sources) = {slope:.3f}", "",
-             markdown_table(table, {k: ".3f" for k in ["seconds_per_eval"] + EWALD_STAGES},
-                            ["capsules", "sources", "nodes", "s/eval", "real space", "near",
-                             "spreading", "FFT", "gathering", "grid"])]
     name = f"scaling_L{level}"
-    save(name, {"slope": slope, "runs": rows}, "\n".join(lines) + "\n")
+    result = {"slope": slope, "runs": rows}
+    save(name, result, ewald_scaling(result) + "\n")
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.loglog(sources, seconds, "o-", label=f"spectral, tol {tolerance:g}")
     ax.loglog(sources, seconds[0] * sources / sources[0], "k--", label="O(N)")
