@@ -265,11 +265,30 @@ def ewald_scaling(result):
             + text)
 
 
+def precision_table(rows):
+    """`benchmarks/ewald_report.py precision --capsules 27 --mesh-level 3`: Spectral Ewald
+    with double / single grids at each tolerance: the error against the tight direct
+    reference, the seconds per evaluation and of the grid stages."""
+    out = []
+    for tol in sorted({r["tolerance"] for r in rows}, reverse=True):
+        d, s = (next(r for r in rows if r["tolerance"] == tol and r["precision"] == p)
+                for p in ("double", "single"))
+        pair = lambda get, f: f"{get(d):{f}} / {get(s):{f}}"  # noqa: E731
+        out.append({"tolerance": f"{tol:.0e}",
+                    "error": pair(lambda r: r["rel_error"], ".3e"),
+                    "eval": pair(lambda r: r["seconds_per_eval"], ".3f"),
+                    **{k: pair(lambda r, k=k: r["seconds"][k], ".3f")
+                       for k in ("spreading", "fft", "gathering")}})
+    return markdown_table(pd.DataFrame(out), headers=[
+        "tolerance", "velocity error", "s per evaluation", "spreading", "FFT", "gathering"])
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "setting_compare": setting_compare,
              "build_compare": build_compare, "near_settings": near_settings,
              "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed,
-             "xi_table": xi_table, "ewald_scaling": ewald_scaling}
+             "xi_table": xi_table, "ewald_scaling": ewald_scaling,
+             "precision_table": precision_table}
 
 
 def render(kind, records):

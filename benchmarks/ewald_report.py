@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis.tables import markdown_table  # noqa: E402
-from doc_tables import ewald_scaling, ewald_speed, xi_table  # noqa: E402
+from doc_tables import ewald_scaling, ewald_speed, precision_table, xi_table  # noqa: E402
 from pipeline.command_line import run_command  # noqa: E402
 from pipeline.run_spec import RunSpec  # noqa: E402
 
@@ -36,13 +36,16 @@ CAPSIM = ROOT / "build" / "capsim"
 
 
 def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=True,
-          repeats=2, xi=None):
-    """One `capsim bench` run (xi None: the automatic one); returns its JSON as a dict."""
+          repeats=2, xi=None, precision=None):
+    """One `capsim bench` run (xi None: the automatic one; precision None: capsim's
+    default); returns its JSON as a dict."""
     cmd = [str(CAPSIM), "bench", "--capsules", str(capsules), "--mesh-level", str(level),
            "--phi", str(phi), "--method", method, "--tolerance", str(tolerance),
            "--strain", str(strain), "--repeats", str(repeats)]
     if xi is not None:
         cmd += ["--xi", str(xi)]
+    if precision is not None:
+        cmd += ["--precision", precision]
     if reference:
         OUT.mkdir(parents=True, exist_ok=True)  # capsim writes the reference there
         ref = OUT / f"reference_M{capsules}_L{level}_phi{phi}_s{strain}.bin"
@@ -145,6 +148,14 @@ def xi_scan(capsules, level, tolerance, factors=(0.7, 0.85, 1.15, 1.3)):
     save(name, rows, xi_table(rows) + "\n")
 
 
+def precision(capsules, level, tolerances=(1e-3, 1e-4, 1e-5, 1e-6)):
+    """Spectral Ewald with its grids in double and in single precision (ewald.precision),
+    side by side at each tolerance: the error each adds and the seconds each takes."""
+    rows = [bench(capsules, level, "spectral", tol, repeats=4, precision=p)
+            for tol in tolerances for p in ("double", "single")]
+    save(f"precision_M{capsules}_L{level}", rows, precision_table(rows) + "\n")
+
+
 def step_run_spec(capsules, level, method, steps, tolerance):
     """A run of `steps` RK2 steps near the automatic dt, at Ca 0.2 and phi 0.3."""
     dt = 0.5 * 0.2 * {1: 0.62, 2: 0.31, 3: 0.155, 4: 0.078}[level]  # near the auto dt
@@ -196,7 +207,8 @@ def suffix(methods):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("study", choices=["accuracy", "speed", "scaling", "step", "xi"])
+    p.add_argument("study", choices=["accuracy", "speed", "scaling", "step", "xi",
+                                          "precision"])
     p.add_argument("--capsules", type=int, default=27)
     p.add_argument("--mesh-level", type=int, default=3)
     p.add_argument("--methods", default="spectral,direct,patches",
@@ -211,6 +223,8 @@ def main():
         speed(a.capsules, a.mesh_level, methods)
     elif a.study == "step":
         step(a.capsules, a.mesh_level, methods, a.tolerance)
+    elif a.study == "precision":
+        precision(a.capsules, a.mesh_level)
     elif a.study == "xi":
         xi_scan(a.capsules, a.mesh_level, a.tolerance)
     else:
