@@ -283,12 +283,22 @@ def precision_table(rows):
         "tolerance", "velocity error", "s per evaluation", "spreading", "FFT", "gathering"])
 
 
+def kernel_rate(kernel, peak):
+    """`build/bench_screened_kernel` and `build/peak_flops`: the real-space kernel's flop
+    rate on its own against the FMA peak, per thread count."""
+    rows = [{"threads": t, "kernel": kernel["gflops"][t], "peak": peak["gflops"][t],
+             "share": 100 * kernel["gflops"][t] / peak["gflops"][t]}
+            for t in sorted(kernel["gflops"], key=int)]
+    return markdown_table(pd.DataFrame(rows), {"kernel": ".1f", "peak": ".1f", "share": ".0f"},
+                          ["threads", "kernel GFLOP/s", "peak GFLOP/s", "share of peak %"])
+
+
 RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "near_corrections": near_corrections, "setting_compare": setting_compare,
              "build_compare": build_compare, "near_settings": near_settings,
              "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed,
              "xi_table": xi_table, "ewald_scaling": ewald_scaling,
-             "precision_table": precision_table}
+             "precision_table": precision_table, "kernel_rate": kernel_rate}
 
 
 def render(kind, records):
