@@ -273,7 +273,10 @@ def precision_table(rows):
     for tol in sorted({r["tolerance"] for r in rows}, reverse=True):
         d, s = (next(r for r in rows if r["tolerance"] == tol and r["precision"] == p)
                 for p in ("double", "single"))
-        pair = lambda get, f: f"{get(d):{f}} / {get(s):{f}}"  # noqa: E731
+
+        def pair(get, f):
+            return f"{get(d):{f}} / {get(s):{f}}"
+
         out.append({"tolerance": f"{tol:.0e}",
                     "error": pair(lambda r: r["rel_error"], ".3e"),
                     "eval": pair(lambda r: r["seconds_per_eval"], ".3f"),

@@ -7,6 +7,9 @@ Studies (each writes results/benchmarks/<study>_<case>.json, .md (table) and .pn
   scaling   seconds per evaluation against the number of sources (spectral)
   step      seconds per RK2 time step of `capsim run` (Ca 0.2, tolerance 1e-4 or
             --tolerance), per method
+  precision spectral with its grids in double and single precision, tolerances 1e-3-1e-6
+  xi        spectral at its automatic xi and at 0.7-1.3 times it (--tolerance)
+(the records the docs' tables are generated from, benchmarks/records/, are these JSON)
 Usage: .venv/bin/python benchmarks/ewald_report.py STUDY [--capsules M] [--mesh-level N]
            [--methods spectral,direct,patches] [--tolerance T]
 The error reference is direct Ewald at tolerance 1e-10 on the same configuration; it is
@@ -207,14 +210,14 @@ def suffix(methods):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("study", choices=["accuracy", "speed", "scaling", "step", "xi",
-                                          "precision"])
+    p.add_argument("study",
+                   choices=["accuracy", "speed", "scaling", "step", "xi", "precision"])
     p.add_argument("--capsules", type=int, default=27)
     p.add_argument("--mesh-level", type=int, default=3)
     p.add_argument("--methods", default="spectral,direct,patches",
                    help="comma-separated methods for accuracy, speed and step")
     p.add_argument("--tolerance", type=float, default=1e-4,
-                   help="step and xi: the Ewald tolerance (step: that of `capsim run`, 1e-6)")
+                   help="step and xi: the Ewald tolerance")
     a = p.parse_args()
     methods = a.methods.split(",")
     if a.study == "accuracy":
