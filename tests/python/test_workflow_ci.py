@@ -57,6 +57,7 @@ def test_ci_workflow_and_check(tmp_path):
     again = snakemake(tmp_path, "all", "check", "-n")
     assert again.returncode == 0
     assert "Nothing to be done" in again.stdout + again.stderr
+    assert "main studies: 0 of 16 runs to compute, about 0.0 h" in again.stderr
 
 
 def planned_jobs(output):
@@ -78,3 +79,5 @@ def test_configuration_plans(tmp_path, configfile, runs):
                      extra=[str(tmp_path / "no_archive.yaml")])
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     assert planned_jobs(proc.stdout)["run"] == runs
+    # The estimate counts the runs the plan has (the main studies' runs, each once).
+    assert f"main studies: {runs} of {runs} runs to compute" in proc.stderr
