@@ -247,11 +247,19 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.dt_safety; },
           "C in the automatic time step dt = C Ca h / (1 + 4 membrane.bending / h^2)"),
       choice(
-          "time.scheme", {"heun", "imex"},
+          "time.scheme", {"heun", "imex", "rkc"},
           [](RunOptions& o) -> std::string& { return o.time.scheme; },
-          "heun (explicit 2nd-order Runge-Kutta, eq. 3.2: stable for dt ~ Ca h) or imex "
+          "heun (explicit 2nd-order Runge-Kutta, eq. 3.2: stable for dt ~ Ca h), imex "
           "(linearly implicit 2nd-order Rosenbrock-W: each capsule's own membrane "
-          "stiffness implicit, the rest explicit; steps far beyond Ca h)"),
+          "stiffness implicit, the rest explicit; steps far beyond Ca h) or rkc "
+          "(explicit 2nd-order Runge-Kutta-Chebyshev of time.stages stages: steps "
+          "beta(s) / 2 times Heun's for s / 2 times the work, beta(4) / 2 = 4.9)"),
+      integer(
+          "time.stages", {2, 20, false, false},
+          [](RunOptions& o) -> int& { return o.time.stages; },
+          "time.scheme rkc: its stages s; the automatic step is beta(s) / 2 times "
+          "Heun's (beta(s) ~ 0.65 s^2, its stability boundary), so dt_safety keeps "
+          "its margin to the stability limit"),
       auto_or_real(
           "time.tolerance", {0, 1, false, false}, kAutomatic,
           [](RunOptions& o) -> double& { return o.time.tolerance; },

@@ -25,7 +25,8 @@ struct OutputOptions {
 inline constexpr double kAutomatic = -1;
 
 struct TimeOptions {
-  std::string scheme = "heun"; // heun (explicit) or imex (linearly implicit)
+  std::string scheme = "heun"; // heun, rkc (explicit) or imex (linearly implicit)
+  int stages = 4;              // of rkc
   double tolerance = 0;        // largest step error (error_norm), in a; 0 = a fixed step
   std::string error_norm = "max"; // of the node errors: max or rms (per capsule)
 };

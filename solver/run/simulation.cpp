@@ -36,6 +36,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The automatic step of the run's scheme: Heun's (automatic_time_step) times how much
+// longer a step the scheme's stability allows (rkc: beta(s) / 2).
+double automatic_step(const RunOptions& o, double h) {
+  return automatic_time_step(o.ca, h, o.dt_safety, o.bending) *
+         stability_ratio(parse_time_scheme(o.time.scheme), o.time.stages);
+}
+
 // The periodic box for phi > 0 (docs/conventions.md), within what the backend can
 // evaluate; none (L = 0) in the dilute limit.
 PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
@@ -96,14 +103,13 @@ public:
         membrane_(mesh_.topology, mesh_.positions.data(), 1.0 / o.ca, o.bending / o.ca,
                   o.wrinkling),
         h_(mean_edge_length(mesh_.topology, mesh_.positions.data())),
-        dt_(o.dt > 0 ? o.dt : automatic_time_step(o.ca, h_, o.dt_safety, o.bending)),
+        dt_(o.dt > 0 ? o.dt : automatic_step(o, h_)),
         flow_(make_flow(parse_backend(o.backend),
                         flow_setup(o, membrane_, periodic_box(o, mesh_.topology)))),
         stepper_(make_stepper(parse_time_scheme(o.time.scheme), *flow_,
-                              parse_error_norm(o.time.error_norm))),
+                              parse_error_norm(o.time.error_norm), o.time.stages)),
         // An adaptive step a millionth of the automatic one means a broken state.
-        adaptive_(*stepper_, o.time.tolerance, dt_,
-                  1e-6 * automatic_time_step(o.ca, h_, o.dt_safety, o.bending)) {
+        adaptive_(*stepper_, o.time.tolerance, dt_, 1e-6 * automatic_step(o, h_)) {
     // A fixed step counts steps between outputs; an adaptive one counts samples.
     const double unit = adaptive() ? o.output.sample_interval : dt_;
     n_steps_ = std::lround(std::ceil(o.t_end / dt_ - 1e-9));
