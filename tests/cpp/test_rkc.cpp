@@ -2,6 +2,7 @@
 #include "dynamics/time_schemes.hpp"
 #include "dynamics/volume_constraint.hpp"
 #include "mesh/surface_geometry.hpp"
+#include "stepping_helpers.hpp"
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>
@@ -106,13 +107,7 @@ TEST_CASE("time schemes: rkc relaxes a stretched capsule at a step where Heun's 
     auto x = testing::stretched(s.positions, 1.2, 1 / std::sqrt(1.2), 1 / std::sqrt(1.2));
     enforce_volume(s.topology, 1, x, v0);
     const double w0 = membrane.energy(x.data());
-    bool finite = true;
-    for (int step = 0; step < 100 && finite; ++step) {
-      stepper->step(x, step * dt, dt);
-      enforce_volume(s.topology, 1, x, v0);
-      for (const Vec3& p : x)
-        finite = finite && std::isfinite(p.x) && norm(p) < 10;
-    }
+    const bool finite = testing::stays_bounded(*stepper, s.topology, 1, x, v0, dt, 100);
     INFO(to_string(scheme) << " at 3 Ca h");
     if (scheme == TimeScheme::rkc) {
       REQUIRE(finite);
