@@ -339,21 +339,13 @@ TEST_CASE("implicit: the IMEX step converges at second order, with the volume "
   const std::vector<double> v0 = {enclosed_volume(s.topology, s.positions.data())};
   auto solve = [&](int steps) {
     auto x = testing::stretched(s.positions, 1.2, 1 / std::sqrt(1.2), 1 / std::sqrt(1.2));
-    const double dt = 0.4 / steps;
-    for (int k = 0; k < steps; ++k) {
-      imex.step(x, k * dt, dt);
-      enforce_volume(s.topology, 1, x, v0);
-    }
+    testing::advance(imex, s.topology, 1, x, v0, 0.4 / steps, steps);
     return x;
   };
   const auto reference = solve(2048);
   std::vector<double> error;
   for (int steps : {64, 128, 256}) {
-    const auto x = solve(steps);
-    double e = 0;
-    for (size_t i = 0; i < x.size(); ++i)
-      e = std::max(e, norm(x[i] - reference[i]));
-    error.push_back(e);
+    error.push_back(testing::largest_distance(solve(steps), reference));
   }
   INFO("errors " << error[0] << " " << error[1] << " " << error[2]);
   CHECK(testing::observed_order(error[0], error[1]) > 1.8);
