@@ -17,6 +17,9 @@ option that changes the trajectory. t_end and t_avg_start are left out: a record
 reached t_end = 20 is the first part of the same run to t_end = 30, and t_avg_start changes
 only the averages of summary.json. threads and backend are left out too: they change the
 last bits of the floating-point reductions, not the physics (a record says which it used).
+An option whose capsim default changed since physics version 1 (CHANGED_DEFAULTS) enters
+the key by the value the run takes, and only where that is not the old default: a run
+that pins the old value keeps its records, one that takes the new default is new.
 """
 
 import dataclasses
@@ -32,9 +35,28 @@ from pipeline.command_line import option_value
 ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
 
+# The options whose capsim default changed since physics version 1: (the default then, the
+# default now, whether a dilute run uses it). Measured to hold the accuracy at 1.3 times
+# less cost per step (docs/performance.md, "The defaults of precision and quadrature");
+# tests/python/test_archive.py checks "now" against `capsim params`.
+CHANGED_DEFAULTS = {
+    "ewald.precision": ("double", "auto", False),
+    "quadrature.near_ratio": (1.5, 1, True),
+    "quadrature.far_ratio": (2, 1.5, True),
+}
+
+
 def physics_version():
     """The solver's physics version: the first word of solver/PHYSICS_VERSION."""
     return PHYSICS_VERSION_FILE.read_text().split()[0]
+
+
+def _same_value(given, default):
+    """Whether a spelt option value is the default (1.5 and "1.50" are)."""
+    try:
+        return float(given) == float(default)
+    except ValueError:
+        return given == option_value(default)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -96,12 +118,27 @@ class RunSpec:
         return {**self.trajectory_options(), "t_end": self.t_end,
                 "t_avg_start": self.t_avg_start, "threads": threads}
 
+    def taken(self, name):
+        """The value the run takes for an option of CHANGED_DEFAULTS: as given, or the
+        present default (spelt as capsim is given it)."""
+        return option_value(self.trajectory_options().get(name, CHANGED_DEFAULTS[name][1]))
+
+    def key_options(self):
+        """The options the key hashes: the trajectory options as capsim is given them,
+        with each option of CHANGED_DEFAULTS that the run uses at the value it takes, left
+        out where that is the default of physics version 1 (as every run before the
+        change)."""
+        options = {k: option_value(v) for k, v in self.trajectory_options().items()
+                   if k not in CHANGED_DEFAULTS}
+        for name, (then, _, dilute_uses) in CHANGED_DEFAULTS.items():
+            if (dilute_uses or not self.dilute) and not _same_value(self.taken(name), then):
+                options[name] = self.taken(name)
+        return dict(sorted(options.items()))
+
     def key(self, version=None):
-        """The provenance key: sha256 of the physics version and the trajectory options,
-        as capsim is given them (hex)."""
+        """The provenance key: sha256 of the physics version and key_options() (hex)."""
         content = {"physics_version": version or physics_version(),
-                   "options": {k: option_value(v)
-                               for k, v in sorted(self.trajectory_options().items())}}
+                   "options": self.key_options()}
         text = json.dumps(content, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()
 
@@ -110,11 +147,15 @@ class RunSpec:
         point with the quantitative settings, benchmarks/records/step_profile.json:
         level 3, M 27, Ca 0.2 17.5 s, level 4 10.8 times that (docs/performance.md),
         bending eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s
-        at level 3)."""
+        at level 3; all measured with the defaults of physics version 1. A suspension
+        that takes the present ones of CHANGED_DEFAULTS: 0.77 of that,
+        benchmarks/records/batch_compare.json)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
-        return base * per_level * stiff * 0.2 / self.ca
+        present = not self.dilute and all(_same_value(self.taken(name), now)
+                                          for name, (_, now, _) in CHANGED_DEFAULTS.items())
+        return base * per_level * stiff * 0.2 / self.ca * (0.77 if present else 1.0)
 
     def segment_ends(self, minutes=None, strain=None):
         """The pause times of the run's segments and its t_end last: segments of
@@ -141,9 +182,11 @@ def suspension(study, keys, block, averages_start, run_options):
 
 
 def dilute(ca, level, block):
-    """The RunSpec of a dilute run from the configuration's dilute block."""
+    """The RunSpec of a dilute run from the configuration's dilute block (its options:
+    further capsim options of every dilute run)."""
     return RunSpec(study="dilute", ca=ca, level=level, t_end=block["t_end"],
-                   t_avg_start=block["t_avg_start"])
+                   t_avg_start=block["t_avg_start"],
+                   options=tuple(sorted(block.get("options", {}).items())))
 
 
 def accuracy(setting, sample_interval):
@@ -162,14 +205,14 @@ def accuracy(setting, sample_interval):
                    options=tuple(sorted(options.items())), label=setting.run)
 
 
-def sensitivity(run, run_options):
+def sensitivity(run, run_options, dilute_options):
     """The RunSpec of a run of the sensitivity study (analysis.sensitivity.Run), in the
     folder the study names. A suspension run gets `run_options` (config["run_options"],
-    as every suspension run of the workflow); a dilute run does not, as the dilute
-    study's runs it is compared with. The membrane keys are always set, so that the code
-    alone says which membrane a run carries whatever run_options hold; the code's own
-    options come last (trajectory_options)."""
-    options = dict(run_options) if run.phi > 0 else {}
+    as every suspension run of the workflow), a dilute run `dilute_options` (the dilute
+    block's options), as the dilute study's runs it is compared with. The membrane keys
+    are always set, so that the code alone says which membrane a run carries whatever
+    run_options hold; the code's own options come last (trajectory_options)."""
+    options = dict(run_options if run.phi > 0 else dilute_options)
     options |= {"membrane.wrinkling": False, "membrane.bending": 0,
                 "output.snapshot_interval": 0}
     return RunSpec(study="sensitivity", ca=run.ca, level=run.level, t_end=run.t_end,

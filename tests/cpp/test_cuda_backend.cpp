@@ -112,10 +112,12 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   direct.box = make_periodic_box(6.0, {EwaldMethod::direct, 1e-4}, 100, 300);
   repelled.repulsion.force = 5;
   wide.box = make_periodic_box(6.0, {EwaldMethod::spectral, 1e-4, 0.3}, 100, 300);
-  // The automatic xi within the device's limit on r_cut.
+  // The automatic xi within the device's limit on r_cut, double grids (what a run asks of
+  // the device when its precision is auto) and single ones (auto at 1e-4 on the CPU).
   EwaldOptions automatic{EwaldMethod::spectral, 1e-4};
+  automatic.precision = GridPrecision::double_precision;
   spectral.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
-  automatic.precision = GridPrecision::automatic; // single at 1e-4
+  automatic.precision = GridPrecision::automatic;
   single.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
   const std::vector<std::pair<FlowSetup, std::string>> refused = {
       {{bent}, "membrane.bending: must be 0 with backend: cuda"},

@@ -1,5 +1,6 @@
 #include "stokes/kernels/ewald_kernel.hpp"
 #include "stokes/ewald/ewald_reciprocal.hpp"
+#include "stokes/ewald/ewald_setup.hpp"
 #include "stokes/ewald/spectral_ewald.hpp"
 #include "stokes/kernels/stokeslet.hpp"
 
@@ -94,6 +95,19 @@ TEST_CASE("spectral ewald: single-precision grids round, but keep the tolerance"
     CHECK(rounding > 1e-9); // the single path ran: its rounding shows
     CHECK(rounding < 2e-6);
     CHECK(relative_error(u_single, ref) < 5 * tol);
+  }
+}
+
+// The default precision is automatic: single grids from kSingleGridTolerance on, where
+// their rounding (above) is at most a thirtieth of the tolerance; double below, so that a
+// run at 1e-6 or tighter is computed as before.
+TEST_CASE("spectral ewald: the default grids are single from 1e-5 on, double below",
+          "[spectral]") {
+  for (double tol : {1e-3, 1e-5, 9.9e-6, 1e-6, 1e-9}) {
+    const EwaldOptions asked{EwaldMethod::spectral, tol};
+    REQUIRE(asked.precision == GridPrecision::automatic);
+    INFO("tolerance " << tol);
+    CHECK(make_periodic_box(5.0, asked, 1000, 3000).grid.single == (tol >= 1e-5));
   }
 }
 

@@ -19,6 +19,7 @@ in temporary folders:
 
 About 30 s on 2 cores. Skipped when build/capsim or snakemake is missing."""
 
+import hashlib
 import json
 import shutil
 import subprocess
@@ -29,7 +30,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from pipeline import archive
+from pipeline import archive, run_spec
+from pipeline.command_line import option_value
 from pipeline.run_spec import RunSpec
 
 from test_workflow_ci import CAPSIM, ROOT, SNAKEMAKE, pytestmark  # noqa: F401 (the skips)
@@ -225,3 +227,41 @@ def test_a_run_recorded_only_once_it_has_left_its_start(tmp_path, monkeypatch):
                               workdir=tmp_path)
         assert report["recorded"] == want
     assert len(recorded) == 1
+
+
+def test_changed_defaults_are_capsim_s_present_ones():
+    # CHANGED_DEFAULTS says what capsim's defaults are now: `capsim params` agrees.
+    listed = subprocess.run([str(CAPSIM), "params"], capture_output=True, text=True,
+                            check=True).stdout
+    defaults = {row.split("|")[1].strip(" `"): row.split("|")[2].strip()
+                for row in listed.splitlines() if row.startswith("| `")}
+    for name, (_, now, _) in run_spec.CHANGED_DEFAULTS.items():
+        assert run_spec._same_value(defaults[name], now), name
+
+
+def test_a_run_that_pins_the_old_defaults_keeps_its_key():
+    # The key of a run as it was before the defaults changed (every option as given, none
+    # of CHANGED_DEFAULTS among them) is that of the same run pinning the old values; a
+    # run that takes the new defaults, or other values, has another key.
+    def key_before(spec):
+        options = {k: option_value(v) for k, v in sorted(spec.trajectory_options().items())}
+        text = json.dumps({"physics_version": run_spec.physics_version(),
+                           "options": options}, sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    base = {"study": "grid", "ca": 0.2, "level": 3, "t_end": 30, "t_avg_start": 10,
+            "phi": 0.3, "M": 27}
+    given = (("ewald.tolerance", "auto"),)
+    old = tuple(sorted({**dict(given), **{name: then for name, (then, _, _)
+                                         in run_spec.CHANGED_DEFAULTS.items()}}.items()))
+    before = key_before(RunSpec(**base, options=given))
+    assert RunSpec(**base, options=old).key() == before
+    assert RunSpec(**base, options=given).key() != before
+    assert RunSpec(**base, options=old + (("quadrature.max_depth", 7),)).key() != before
+    single = tuple(sorted({**dict(old), "ewald.precision": "single"}.items()))
+    assert RunSpec(**base, options=single).key() != before
+    # A dilute run has no grids: the precision is not in its key; the quadrature is.
+    dilute = {"study": "dilute", "ca": 0.2, "level": 3, "t_end": 20, "t_avg_start": 10}
+    quadrature = (("quadrature.far_ratio", 2), ("quadrature.near_ratio", 1.5))
+    assert RunSpec(**dilute, options=quadrature).key() == key_before(RunSpec(**dilute))
+    assert RunSpec(**dilute).key() != key_before(RunSpec(**dilute))

@@ -44,7 +44,7 @@ def test_membrane_codes_give_capsim_options(code, options):
 def test_a_code_overrides_the_run_options():
     run = Run("suspension", 0.6, 0.4, 3, "eb0.025+rep5", 27, 1, 20.0, (10, 20))
     spec = run_spec.sensitivity(
-        run, {"suspension.repulsion_force": 1, "membrane.wrinkling": True})
+        run, {"suspension.repulsion_force": 1, "membrane.wrinkling": True}, {})
     options = set_options(spec.capsim_options(threads=2))
     assert spec.folder == "results/sensitivity/" + run.name
     assert "--set suspension.repulsion_force=5" in options

@@ -114,7 +114,8 @@ def configuration_runs():
         spec = run_spec.accuracy(setting, block["sample_interval"])
         runs[spec.folder] = spec
     for run in sensitivity_study.plan(config["sensitivity"], config["dilute"]):
-        spec = run_spec.sensitivity(run, config["run_options"])
+        spec = run_spec.sensitivity(run, config["run_options"],
+                                    config["dilute"].get("options", {}))
         runs[spec.folder] = spec
     return runs
 

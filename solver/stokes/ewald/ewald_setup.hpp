@@ -48,7 +48,7 @@ struct EwaldOptions {
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; <= 0: automatic
   int patch_level = 1;     // method patches: patches = faces of this icosphere level
-  GridPrecision precision = GridPrecision::double_precision; // method spectral: its grids
+  GridPrecision precision = GridPrecision::automatic; // method spectral: its grids
 };
 
 // The box of side L for `options`: xi as given, or (xi <= 0) the one of least modelled

@@ -11,8 +11,8 @@ namespace capsim {
 
 // The accurate rules, as plain values and pointers that device code can take.
 struct NearRule {
-  double far_ratio = 2.0;       // triangles closer than this many diameters are near
-  double near_ratio = 1.5;      // subdivide until pieces are this many diameters away
+  double far_ratio = 1.5;       // triangles closer than this many diameters are near
+  double near_ratio = 1.0;      // subdivide until pieces are this many diameters away
   int max_depth = 6;            // deepest subdivision
   const double* gl_x = nullptr; // Gauss-Legendre nodes of the polar rule on [0, 1]
   const double* gl_w = nullptr; // and its weights

@@ -15,10 +15,14 @@
 namespace capsim {
 
 struct QuadratureOptions {
-  // Triangles closer than far_ratio diameters to a node get the accurate rule.
-  double far_ratio = 2.0;
+  // Triangles closer than far_ratio diameters to a node get the accurate rule. 1.5 with
+  // near_ratio 1 holds the free-space single layer to 2e-5 of the largest velocity, 39
+  // times below the workflow's Ewald tolerances, at 0.4 of the cost of 2 and 1.5 (the
+  // first defaults: docs/performance.md, "A step in situ";
+  // pipeline/run_spec.py names them, so that archived runs keep their keys).
+  double far_ratio = 1.5;
   // Near-singular triangles are split until each piece is near_ratio diameters away.
-  double near_ratio = 1.5;
+  double near_ratio = 1.0;
   // Deepest 1-to-4 subdivision of a near-singular triangle.
   int max_depth = 6;
   // Gauss-Legendre points of the polar rule at a vertex.
