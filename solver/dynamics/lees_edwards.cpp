@@ -61,17 +61,31 @@ ClosestApproach closest_approach(const Topology& topo, int num_capsules,
                                  double reach) {
   const int nn = topo.num_nodes;
   const std::vector<Sphere> s = bounding_spheres(nn, x);
-  // Pairs whose bounding spheres come within reach, with the lattice shift that brings
-  // b's image nearest to a.
+  double largest = 0;
+  for (const Sphere& sphere : s)
+    largest = std::max(largest, sphere.radius);
+  // Every image of b (b = a: a's own, but a itself) whose bounding sphere comes within
+  // reach of a's, with its lattice shift. Not only the nearest: where the box is not
+  // much larger than the capsules (M = 8 at phi 0.3: L = 4.8), b may reach a from two
+  // sides. An image within R of a lies within |n1| <= 1.5 R / L + 1/2 and |n2|, |n3| <=
+  // R / L + 1/2 cells of the nearest (the sheared cell's x extends by |s| <= 1/2 of y).
+  const double R = 2 * largest + reach;
+  const int k1 = int(std::ceil(1.5 * R / g.L + 0.5)), k23 = int(std::ceil(R / g.L + 0.5));
   std::vector<ClosestApproach> pairs;
   std::vector<Vec3> shifts;
   for (int a = 0; a < num_capsules; ++a)
-    for (int b = a + 1; b < num_capsules; ++b) {
-      Vec3 d = wrap_to_cell(g, s[b].centre - s[a].centre);
-      if (norm(d) > s[a].radius + s[b].radius + reach)
-        continue;
-      pairs.push_back({1e300, a, b});
-      shifts.push_back((s[a].centre + d) - s[b].centre);
+    for (int b = a; b < num_capsules; ++b) {
+      const Vec3 nearest = wrap_to_cell(g, s[b].centre - s[a].centre);
+      for (int n1 = -k1; n1 <= k1; ++n1)
+        for (int n2 = -k23; n2 <= k23; ++n2)
+          for (int n3 = -k23; n3 <= k23; ++n3) {
+            const Vec3 d = nearest + lattice_point(g, n1, n2, n3);
+            if ((a == b && n1 == 0 && n2 == 0 && n3 == 0) ||
+                norm(d) > s[a].radius + s[b].radius + reach)
+              continue;
+            pairs.push_back({1e300, a, b});
+            shifts.push_back((s[a].centre + d) - s[b].centre);
+          }
     }
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t p = 0; p < pairs.size(); ++p) {

@@ -16,11 +16,12 @@ namespace capsim {
 int remap_capsules(const Topology& topo, int num_capsules, const ShearedLattice& lattice,
                    std::vector<Vec3>& x);
 
-// Smallest distance between nodes of different capsules (periodic minimum image): a
-// cheap, conservative proxy for the surface gap, used to stop a run whose capsules
-// overlap. Exact where it is below `reach`; pairs of capsules whose bounding spheres stay
-// `reach` apart, and nodes outside the other capsule's bounding sphere widened by
-// `reach`, are not examined (a distance of `reach` or more may come back as 1e300).
+// Smallest distance between nodes of different capsules, or of a capsule and its own
+// periodic image, over every image (capsule_a == capsule_b for the latter): a cheap,
+// conservative proxy for the surface gap, used to stop a run whose capsules overlap.
+// Exact where it is below `reach`; pairs of capsules whose bounding spheres stay `reach`
+// apart, and nodes outside the other capsule's bounding sphere widened by `reach`, are
+// not examined (a distance of `reach` or more may come back as 1e300).
 struct ClosestApproach {
   double distance = 1e300;
   int capsule_a = -1, capsule_b = -1;

@@ -1,6 +1,7 @@
 #pragma once
 // Optional short-range repulsion between the nodes of different capsules (off by
-// default; not in the paper). Where two membranes come closer than the mesh can resolve,
+// default; not in the paper; not between a capsule and its own periodic image, which
+// only a box little wider than a capsule brings close: the contact check stops that). Where two membranes come closer than the mesh can resolve,
 // the lubrication flow between them is under-resolved and nodes may cross; a pair
 // potential that acts only within `range` keeps the gap open. Each pair of nodes i, j of
 // different capsules at distance d < range has the energy

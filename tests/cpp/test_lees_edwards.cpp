@@ -88,3 +88,72 @@ TEST_CASE("lees-edwards: closest approach equals the brute-force search below it
   // With a reach below the gap nothing is close: the answer is at least that reach.
   CHECK(closest_approach(s.topology, 3, g, x, 0.5 * brute).distance >= 0.5 * brute);
 }
+
+namespace {
+
+// The brute-force closest approach over every pair (a <= b) and every image within two
+// cells (a capsule against its own images but not itself).
+ClosestApproach brute_closest(const std::vector<Vec3>& x, int nn, int capsules,
+                              const ShearedLattice& g) {
+  ClosestApproach best;
+  for (int a = 0; a < capsules; ++a)
+    for (int b = a; b < capsules; ++b)
+      for (int n1 = -2; n1 <= 2; ++n1)
+        for (int n2 = -2; n2 <= 2; ++n2)
+          for (int n3 = -2; n3 <= 2; ++n3) {
+            if (a == b && n1 == 0 && n2 == 0 && n3 == 0)
+              continue;
+            const Vec3 shift = lattice_point(g, n1, n2, n3);
+            for (int i = 0; i < nn; ++i)
+              for (int j = 0; j < nn; ++j) {
+                const double d = norm(x[b * nn + j] + shift - x[a * nn + i]);
+                if (d < best.distance)
+                  best = {d, a, b};
+              }
+          }
+  return best;
+}
+
+} // namespace
+
+TEST_CASE("lees-edwards: in a box little larger than the capsules, closest approach sees "
+          "every image, and a capsule's own",
+          "[lees-edwards]") {
+  Icosphere s = make_icosphere(2);
+  const int nn = s.topology.num_nodes;
+  const double reach = 0.3;
+  SECTION("a capsule longer than the box is wide touches its own image") {
+    const double L = 3.45;
+    const ShearedLattice g = make_sheared_lattice(L, 0.25);
+    std::vector<Vec3> x;
+    for (const auto& p : s.positions)
+      x.push_back(Vec3{1.7 * p.x, 0.8 * p.y, 0.8 * p.z} + Vec3{1.7, 1.7, 1.7});
+    const ClosestApproach brute = brute_closest(x, nn, 1, g);
+    REQUIRE(brute.distance < reach);
+    const ClosestApproach c = closest_approach(s.topology, 1, g, x, reach);
+    CHECK(c.distance == Approx(brute.distance).epsilon(1e-12));
+    CHECK(c.capsule_a == 0);
+    CHECK(c.capsule_b == 0);
+  }
+  SECTION("two tilted capsules that reach each other through several images") {
+    const double L = 3.6;
+    const ShearedLattice g = make_sheared_lattice(L, -0.35);
+    const Vec3 centres[2] = {{0.4, 0.5, 1.2}, {2.3, 2.2, 1.9}};
+    std::vector<Vec3> x;
+    for (int c = 0; c < 2; ++c)
+      for (const auto& p : s.positions) {
+        // Elongated along a direction tilted in x-y, the second the other way.
+        const double t = c == 0 ? 0.6 : -0.7;
+        const Vec3 q{1.45 * p.x, 0.75 * p.y, 0.8 * p.z};
+        x.push_back(Vec3{std::cos(t) * q.x - std::sin(t) * q.y,
+                         std::sin(t) * q.x + std::cos(t) * q.y, q.z} +
+                    centres[c]);
+      }
+    const ClosestApproach brute = brute_closest(x, nn, 2, g);
+    REQUIRE(brute.distance < reach);
+    const ClosestApproach c = closest_approach(s.topology, 2, g, x, reach);
+    CHECK(c.distance == Approx(brute.distance).epsilon(1e-12));
+    CHECK(c.capsule_a == brute.capsule_a);
+    CHECK(c.capsule_b == brute.capsule_b);
+  }
+}
