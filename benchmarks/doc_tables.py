@@ -168,8 +168,8 @@ BUILD_ROWS = [("membrane load (and repulsion), s/step", "membrane_load"),
 
 def build_compare(result):
     """`benchmarks/build_compare.py --old OLD --out FILE`: two builds side by side on the
-    Table 1 point (old, new, new, old): stages per step, cost per capsule-strain, and
-    whether the time series are the same."""
+    Table 1 point (old, new, new, old): stages per step, cost per capsule-strain, whether
+    the time series are the same, and the averages over the second half (SE)."""
     levels = result["levels"]
 
     def cells(get):
@@ -189,6 +189,9 @@ def build_compare(result):
         lambda e, w: ("identical" if max(e["difference"].values()) == 0 else
                       f"differ by {max(e['difference'].values()):.1e}")
         if w == "new" else "")})
+    for label, key in (("<D> (SE)", "D"), ("mu_sp (SE)", "mu_sp")):
+        rows.append({"what": label, **cells(
+            lambda e, w, k=key: f"{e['averages'][w][k]:.6f} ({e['averages'][w][k + '_se']:.2g})")})
     headers = [""] + [f"level {lv} ({e['strain']:g} strain units): {w}"
                       for lv, e in levels.items() for w in ("old", "new")]
     return markdown_table(pd.DataFrame(rows), headers=headers)
