@@ -185,10 +185,14 @@ def build_compare(result):
                        ("ratio old / new, CPU", "cpu_ratio")):
         rows.append({"what": label, **cells(
             lambda e, w, k=key: f"{e[k]:.3f}" if w == "new" else "")})
-    rows.append({"what": "time series", **cells(
-        lambda e, w: ("identical" if max(e["difference"].values()) == 0 else
-                      f"differ by {max(e['difference'].values()):.1e}")
-        if w == "new" else "")})
+    def series(e):
+        if e["difference"] is None:
+            return "other sample times"
+        most = max(e["difference"].values())
+        return "identical" if most == 0 else f"differ by {most:.1e}"
+
+    rows.append({"what": "time series",
+                 **cells(lambda e, w: series(e) if w == "new" else "")})
     for label, key in (("<D> (SE)", "D"), ("mu_sp (SE)", "mu_sp")):
         rows.append({"what": label, **cells(
             lambda e, w, k=key: f"{e['averages'][w][k]:.6f} ({e['averages'][w][k + '_se']:.2g})")})
