@@ -38,14 +38,21 @@ ORDER = ("old", "new", "new", "old")
 def difference(a, b):
     """Largest difference of D and the stresslet series relative to their largest value
     (0 where the two builds give the same bits), over the sample times both have after
-    the start; None where they share none (a step longer than the sample interval
-    samples at other times)."""
+    the start; where they share none (another time step samples at other times), b
+    interpolated linearly to a's times within b's span ("interpolated": true)."""
     ia, ib = (np.nonzero(np.isin(np.round(x["time"], 9), np.round(y["time"], 9)))[0][1:]
               for x, y in ((a, b), (b, a)))
-    if len(ia) == 0:
-        return None
-    return {k: float(np.max(np.abs(a[k][ia] - b[k][ib])) / np.max(np.abs(a[k])))
-            for k in ("D", "stresslet")}
+    if len(ia):
+        return {k: float(np.max(np.abs(a[k][ia] - b[k][ib])) / np.max(np.abs(a[k])))
+                for k in ("D", "stresslet")}
+    t = a["time"][1:][a["time"][1:] <= b["time"][-1]]
+    out = {"interpolated": True}
+    for k in ("D", "stresslet"):
+        flat_a, flat_b = (x[k].reshape(len(x["time"]), -1) for x in (a, b))
+        at = np.column_stack([np.interp(t, b["time"], col) for col in flat_b.T])
+        rows = np.isin(a["time"], t)
+        out[k] = float(np.max(np.abs(flat_a[rows] - at)) / np.max(np.abs(flat_a)))
+    return out
 
 
 def compare(level, strain, builds, threads, scratch, new_options):
@@ -90,7 +97,8 @@ def main():
             result["levels"][level] = entry
             print(f"level {level}: wall ratio old/new {entry['wall_ratio']:.3f}, CPU ratio "
                   f"{entry['cpu_ratio']:.3f}; differences " + ", ".join(
-                      f"{k} {v:.1e}" for k, v in (entry["difference"] or {}).items()),
+                      f"{k} {v:.1e}" for k, v in entry["difference"].items()
+                      if k != "interpolated"),
                   file=sys.stderr, flush=True)
     print_json(result, args.out)
 

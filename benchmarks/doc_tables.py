@@ -186,9 +186,10 @@ def build_compare(result):
         rows.append({"what": label, **cells(
             lambda e, w, k=key: f"{e[k]:.3f}" if w == "new" else "")})
     def series(e):
-        if e["difference"] is None:
-            return "other sample times"
-        most = max(e["difference"].values())
+        d = e["difference"]
+        most = max(d[k] for k in ("D", "stresslet"))
+        if d.get("interpolated"):
+            return f"differ by {most:.1e} (interpolated to the old's times)"
         return "identical" if most == 0 else f"differ by {most:.1e}"
 
     rows.append({"what": "time series",
