@@ -1,10 +1,11 @@
 #pragma once
 // Optional short-range repulsion between the nodes of different capsules (off by
 // default; not in the paper; not between a capsule and its own periodic image, which
-// only a box little wider than a capsule brings close: the contact check stops that). Where two membranes come closer than the mesh can resolve,
-// the lubrication flow between them is under-resolved and nodes may cross; a pair
-// potential that acts only within `range` keeps the gap open. Each pair of nodes i, j of
-// different capsules at distance d < range has the energy
+// only a box little wider than a capsule brings close: the contact check stops that).
+// Where two membranes come closer than the mesh can resolve, the lubrication flow
+// between them is under-resolved and nodes may cross; a pair potential that acts only
+// within `range` keeps the gap open. Each pair of nodes i, j of different capsules at
+// distance d < range has the energy
 //   E(d) = (force range / 3) (1 - d/range)^3,
 // a repulsive force of magnitude force (1 - d/range)^2: zero with zero slope at the edge
 // of the range, `force` at contact. Units: lengths in a, forces in mu gammadot a^2 (the

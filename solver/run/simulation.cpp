@@ -333,20 +333,20 @@ void RunLoop::keep_in_box() {
   remap_capsules(mesh_.topology, o_.capsules, lattice, x_);
   ClosestApproach c = closest_approach(mesh_.topology, o_.capsules, lattice, x_,
                                        o_.suspension.stop_distance);
+  if (!(c.distance < o_.suspension.stop_distance))
+    return;
   const std::string who =
       c.capsule_a == c.capsule_b
           ? "capsule " + std::to_string(c.capsule_a) + " and its periodic image touch"
           : "capsules " + std::to_string(c.capsule_a) + " and " +
                 std::to_string(c.capsule_b) + " touch";
-  if (c.distance < o_.suspension.stop_distance)
-    throw SimulationError(
-        who + " at gammadot*t = " + std::to_string(time()) + " (node distance " +
-            std::to_string(c.distance) +
-            " < suspension.stop_distance): the near-contact "
-            "flow is under-resolved; start again with a smaller dt or a "
-            "finer mesh (the output "
-            "folder keeps the last good checkpoint and time series)",
-        "contact");
+  throw SimulationError(who + " at gammadot*t = " + std::to_string(time()) +
+                            " (node distance " + std::to_string(c.distance) +
+                            " < suspension.stop_distance): the near-contact "
+                            "flow is under-resolved; start again with a smaller dt or a "
+                            "finer mesh (the output "
+                            "folder keeps the last good checkpoint and time series)",
+                        "contact");
 }
 
 void RunLoop::take_sample() {
