@@ -2,7 +2,8 @@
 invocation, for a change that should make a step cheaper.
 
     .venv/bin/python benchmarks/build_compare.py --old OLD/capsim [--new build/capsim]
-        [--new-set KEY=VALUE ...] [--out results/benchmarks/build_compare.json]
+        [--old-label COMMIT] [--new-set KEY=VALUE ...]
+        [--out results/benchmarks/build_compare.json]
 
 OLD is a capsim built from the commit to compare with (for example in a git worktree:
 `git worktree add /tmp/old <commit> && bash scripts/setup.sh` there). For the Table 1
@@ -82,6 +83,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--old", required=True, help="the capsim to compare with")
     ap.add_argument("--new", default=str(CAPSIM))
+    ap.add_argument("--old-label", default="old build",
+                    help="how the record names the old build (e.g. its commit)")
+    ap.add_argument("--new-label", default="this checkout's build",
+                    help="how the record names the new build")
     ap.add_argument("--new-set", nargs="*", default=[], metavar="KEY=VALUE",
                     help="further capsim options of the new build's runs")
     ap.add_argument("--threads", type=int, default=2)
@@ -89,7 +94,8 @@ def main():
     args = ap.parse_args()
     builds = {"old": args.old, "new": args.new}
     new_options = dict(o.split("=", 1) for o in args.new_set)
-    result = {"builds": builds, "new_options": new_options, "threads": args.threads,
+    # The record names the builds by label, not by path (a path is of one machine).
+    result = {"builds": {"old": args.old_label, "new": args.new_label}, "new_options": new_options, "threads": args.threads,
               "levels": {}}
     with tempfile.TemporaryDirectory() as scratch:
         for level, strain in CASES.items():

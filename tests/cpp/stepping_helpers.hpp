@@ -9,15 +9,21 @@
 
 namespace capsim::testing {
 
-// Steps x from t = 0 `steps` times by dt, restoring the volumes v0 after each step;
-// whether every node stayed finite and within 10 a of the origin throughout (it stops at
-// the first step that left them).
+// One step of x from t by dt, restoring the volumes v0 after it.
+inline void step_once(Stepper& stepper, const Topology& topo, int num_capsules,
+                      std::vector<Vec3>& x, const std::vector<double>& v0, double t,
+                      double dt) {
+  stepper.step(x, t, dt);
+  enforce_volume(topo, num_capsules, x, v0);
+}
+
+// Steps x from t = 0 `steps` times by dt (step_once); whether every node stayed finite
+// and within 10 a of the origin throughout (it stops at the first step that left them).
 inline bool stays_bounded(Stepper& stepper, const Topology& topo, int num_capsules,
                           std::vector<Vec3>& x, const std::vector<double>& v0, double dt,
                           int steps) {
   for (int step = 0; step < steps; ++step) {
-    stepper.step(x, step * dt, dt);
-    enforce_volume(topo, num_capsules, x, v0);
+    step_once(stepper, topo, num_capsules, x, v0, step * dt, dt);
     for (const Vec3& p : x)
       if (!std::isfinite(p.x) || !(norm(p) < 10))
         return false;
@@ -25,14 +31,12 @@ inline bool stays_bounded(Stepper& stepper, const Topology& topo, int num_capsul
   return true;
 }
 
-// Steps x from t = 0 `steps` times by dt, restoring the volumes v0 after each step.
+// Steps x from t = 0 `steps` times by dt (step_once).
 inline void advance(Stepper& stepper, const Topology& topo, int num_capsules,
                     std::vector<Vec3>& x, const std::vector<double>& v0, double dt,
                     int steps) {
-  for (int step = 0; step < steps; ++step) {
-    stepper.step(x, step * dt, dt);
-    enforce_volume(topo, num_capsules, x, v0);
-  }
+  for (int step = 0; step < steps; ++step)
+    step_once(stepper, topo, num_capsules, x, v0, step * dt, dt);
 }
 
 // The largest distance between corresponding nodes of a and b.
