@@ -47,6 +47,10 @@ def page(results, label, figures, figure_dir, store=None, date=None):
     if store:
         lines += [archive_line(store), ""]
     lines += ["## The paper's numbers against ours", "",
+              "Where a number differs, its reason says what differs between the paper's "
+              "runs and ours and what was measured to be, or not to be, the cause "
+              "(`config/paper_numbers.yaml`; the measurements: `docs/suspensions.md`, "
+              "`docs/dilute_limit.md`).", "",
               (results / "figures" / "paper_comparison.md").read_text().strip(), "",
               "## Table 1", "", (results / "figures" / "table1.md").read_text().strip(),
               "", "## Figures", ""]
