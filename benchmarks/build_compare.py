@@ -95,8 +95,8 @@ def main():
     builds = {"old": args.old, "new": args.new}
     new_options = dict(o.split("=", 1) for o in args.new_set)
     # The record names the builds by label, not by path (a path is of one machine).
-    result = {"builds": {"old": args.old_label, "new": args.new_label}, "new_options": new_options, "threads": args.threads,
-              "levels": {}}
+    result = {"builds": {"old": args.old_label, "new": args.new_label},
+              "new_options": new_options, "threads": args.threads, "levels": {}}
     with tempfile.TemporaryDirectory() as scratch:
         for level, strain in CASES.items():
             entry = compare(level, strain, builds, args.threads, scratch, new_options)
