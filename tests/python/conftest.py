@@ -8,7 +8,7 @@ import pytest
 CAPSIM = Path(__file__).resolve().parents[2] / "build" / "capsim"
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def capsim_run(tmp_path_factory):
     """A function run(name, *settings) that runs capsim to its end in a new folder with
     the given `key=value` settings and returns the folder; it fails the test where the
