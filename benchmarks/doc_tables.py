@@ -273,13 +273,12 @@ def ewald_scaling(result):
             + text)
 
 
-def precision_table(rows):
-    """`benchmarks/ewald_report.py precision --capsules 27 --mesh-level 3`: Spectral Ewald
-    with double / single grids at each tolerance: the error against the tight direct
-    reference, the seconds per evaluation and of the grid stages."""
+def _double_single(rows, field, stages):
+    """Rows of `capsim bench` in double / single `field` at each tolerance: the error
+    against the tight direct reference, the seconds per evaluation and of `stages`."""
     out = []
     for tol in sorted({r["tolerance"] for r in rows}, reverse=True):
-        d, s = (next(r for r in rows if r["tolerance"] == tol and r["precision"] == p)
+        d, s = (next(r for r in rows if r["tolerance"] == tol and r[field] == p)
                 for p in ("double", "single"))
 
         def pair(get, f):
@@ -288,10 +287,27 @@ def precision_table(rows):
         out.append({"tolerance": f"{tol:.0e}",
                     "error": pair(lambda r: r["rel_error"], ".3e"),
                     "eval": pair(lambda r: r["seconds_per_eval"], ".3f"),
-                    **{k: pair(lambda r, k=k: r["seconds"][k], ".3f")
-                       for k in ("spreading", "fft", "gathering")}})
-    return markdown_table(pd.DataFrame(out), headers=[
-        "tolerance", "velocity error", "s per evaluation", "spreading", "FFT", "gathering"])
+                    **{k: pair(lambda r, k=k: r["seconds"][k], ".3f") for k in stages}})
+    return pd.DataFrame(out)
+
+
+def precision_table(rows):
+    """`benchmarks/ewald_report.py precision --capsules 27 --mesh-level 3`: Spectral Ewald
+    with double / single grids at each tolerance: the error against the tight direct
+    reference, the seconds per evaluation and of the grid stages."""
+    return markdown_table(_double_single(rows, "precision", ("spreading", "fft", "gathering")),
+                          headers=["tolerance", "velocity error", "s per evaluation",
+                                   "spreading", "FFT", "gathering"])
+
+
+def real_space_precision_table(rows):
+    """`benchmarks/ewald_report.py real-space-precision --capsules 27 --mesh-level 3`: the
+    real-space sum in double / single precision (double grids) at each tolerance: the
+    error against the tight direct reference, the seconds per evaluation and of the
+    real-space sum."""
+    return markdown_table(_double_single(rows, "real_space_precision", ("real_space",)),
+                          headers=["tolerance", "velocity error", "s per evaluation",
+                                   "real-space sum"])
 
 
 def kernel_rate(kernel, peak):
@@ -309,7 +325,8 @@ RENDERERS = {"step_profile": step_profile, "step_rates": step_rates,
              "build_compare": build_compare, "near_settings": near_settings,
              "ewald_accuracy": ewald_accuracy, "ewald_speed": ewald_speed,
              "xi_table": xi_table, "ewald_scaling": ewald_scaling,
-             "precision_table": precision_table, "kernel_rate": kernel_rate}
+             "precision_table": precision_table, "kernel_rate": kernel_rate,
+             "real_space_precision_table": real_space_precision_table}
 
 
 def render(kind, records):

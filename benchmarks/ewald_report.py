@@ -8,6 +8,7 @@ Studies (each writes results/benchmarks/<study>_<case>.json, .md (table) and .pn
   step      seconds per RK2 time step of `capsim run` (Ca 0.2, tolerance 1e-4 or
             --tolerance), per method
   precision spectral with its grids in double and single precision, tolerances 1e-3-1e-6
+  real-space-precision  the same for the real-space sum (double grids)
   xi        spectral at its automatic xi and at 0.7-1.3 times it (--tolerance)
 (the records the docs' tables are generated from, benchmarks/records/, are these JSON)
 Usage: .venv/bin/python benchmarks/ewald_report.py STUDY [--capsules M] [--mesh-level N]
@@ -29,7 +30,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from analysis.tables import markdown_table  # noqa: E402
-from doc_tables import ewald_scaling, ewald_speed, precision_table, xi_table  # noqa: E402
+from doc_tables import (ewald_scaling, ewald_speed, precision_table,  # noqa: E402
+                        real_space_precision_table, xi_table)
 from pipeline.command_line import run_command  # noqa: E402
 from pipeline.run_spec import RunSpec  # noqa: E402
 
@@ -39,9 +41,9 @@ CAPSIM = ROOT / "build" / "capsim"
 
 
 def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=True,
-          repeats=2, xi=None, precision=None):
-    """One `capsim bench` run (xi None: the automatic one; precision None: capsim's
-    default); returns its JSON as a dict."""
+          repeats=2, xi=None, precision=None, real_space_precision=None):
+    """One `capsim bench` run (xi None: the automatic one; a precision None: the bench's
+    default, double); returns its JSON as a dict."""
     cmd = [str(CAPSIM), "bench", "--capsules", str(capsules), "--mesh-level", str(level),
            "--phi", str(phi), "--method", method, "--tolerance", str(tolerance),
            "--strain", str(strain), "--repeats", str(repeats)]
@@ -49,6 +51,8 @@ def bench(capsules, level, method, tolerance, strain=0.0, phi=0.3, reference=Tru
         cmd += ["--xi", str(xi)]
     if precision is not None:
         cmd += ["--precision", precision]
+    if real_space_precision is not None:
+        cmd += ["--real-space-precision", real_space_precision]
     if reference:
         OUT.mkdir(parents=True, exist_ok=True)  # capsim writes the reference there
         ref = OUT / f"reference_M{capsules}_L{level}_phi{phi}_s{strain}.bin"
@@ -159,6 +163,16 @@ def precision(capsules, level, tolerances=(1e-3, 1e-4, 1e-5, 1e-6)):
     save(f"precision_M{capsules}_L{level}", rows, precision_table(rows) + "\n")
 
 
+def real_space_precision(capsules, level, tolerances=(1e-3, 1e-4, 1e-5, 1e-6)):
+    """The real-space sum in double and in single precision (ewald.real_space_precision),
+    double grids, side by side at each tolerance: the error each adds and the seconds."""
+    rows = [bench(capsules, level, "spectral", tol, repeats=4, precision="double",
+                  real_space_precision=p)
+            for tol in tolerances for p in ("double", "single")]
+    save(f"real_space_precision_M{capsules}_L{level}", rows,
+         real_space_precision_table(rows) + "\n")
+
+
 def step_run_spec(capsules, level, method, steps, tolerance):
     """A run of `steps` RK2 steps near the automatic dt, at Ca 0.2 and phi 0.3."""
     dt = 0.5 * 0.2 * {1: 0.62, 2: 0.31, 3: 0.155, 4: 0.078}[level]  # near the auto dt
@@ -211,7 +225,8 @@ def suffix(methods):
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("study",
-                   choices=["accuracy", "speed", "scaling", "step", "xi", "precision"])
+                   choices=["accuracy", "speed", "scaling", "step", "xi", "precision",
+                            "real-space-precision"])
     p.add_argument("--capsules", type=int, default=27)
     p.add_argument("--mesh-level", type=int, default=3)
     p.add_argument("--methods", default="spectral,direct,patches",
@@ -228,6 +243,8 @@ def main():
         step(a.capsules, a.mesh_level, methods, a.tolerance)
     elif a.study == "precision":
         precision(a.capsules, a.mesh_level)
+    elif a.study == "real-space-precision":
+        real_space_precision(a.capsules, a.mesh_level)
     elif a.study == "xi":
         xi_scan(a.capsules, a.mesh_level, a.tolerance)
     else:

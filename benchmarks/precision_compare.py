@@ -11,9 +11,9 @@ one after the other (so each ratio is measured on the same machine minutes apart
 reports wall and CPU seconds per capsule per unit strain with the in-situ seconds of every
 stage, the averages <D> and mu_sp over the second half of each run with their standard
 errors (analysis.averages) and their difference in units of the standard error; and, for
-the grid precision, from `capsim bench` (M 27 stretched capsules at the same phi and
-level) the velocity error of each against a tight direct-Ewald reference at the tolerance
-the runs use. Run it on an otherwise idle machine.
+the precisions (of the grids, of the real-space sum), from `capsim bench` (M 27
+stretched capsules at the same phi and level) the velocity error of each against a tight
+direct-Ewald reference at the tolerance the runs use. Run it on an otherwise idle machine.
 """
 
 import argparse
@@ -65,10 +65,17 @@ def run(level, t_end, threads, out, capsim=CAPSIM, **options):
             "seconds_per_step": profiled["seconds_per_step"]}
 
 
-def velocity_error(level, tolerance, precision, threads, reference):
+# The precision keys `capsim bench` takes as flags; a setting without one has the run's
+# default, auto.
+BENCH_FLAGS = {"ewald.precision": "--precision",
+               "ewald.real_space_precision": "--real-space-precision"}
+
+
+def velocity_error(level, tolerance, setting, threads, reference):
+    flags = [a for key, flag in BENCH_FLAGS.items() for a in (flag, setting.get(key, "auto"))]
     out = subprocess.run([str(CAPSIM), "bench", "--capsules", str(CASE["capsules"]),
                           "--mesh-level", str(level), "--phi", str(CASE["phi"]),
-                          "--tolerance", str(tolerance), "--precision", precision,
+                          "--tolerance", str(tolerance), *flags,
                           "--threads", str(threads), "--repeats", "1", "--reference",
                           str(reference)], capture_output=True, text=True, check=True)
     return json.loads(out.stdout)["rel_error"]
@@ -98,11 +105,11 @@ def main():
                      "cpu_ratio": s["cpu_s_per_capsule_strain"] / d["cpu_s_per_capsule_strain"],
                      "D_difference_in_se": abs(s["D"] - d["D"]) / d["D_se"],
                      "mu_sp_difference_in_se": abs(s["mu_sp"] - d["mu_sp"]) / d["mu_sp_se"]}
-            if all(set(o) == {"ewald.precision"} for o in settings.values()):
+            if all(set(o) <= set(BENCH_FLAGS) for o in settings.values()):
                 ref = Path(scratch) / f"reference_l{level}.h5"
                 entry["velocity_error"] = {
-                    w: velocity_error(level, d["tolerance"], o["ewald.precision"],
-                                      args.threads, ref) for w, o in settings.items()}
+                    w: velocity_error(level, d["tolerance"], o, args.threads, ref)
+                    for w, o in settings.items()}
             result["levels"][level] = entry
             print(f"level {level}: tolerance {d['tolerance']:.3g}, wall ratio "
                   f"{entry['wall_ratio']:.3f}, CPU ratio {entry['cpu_ratio']:.3f}; <D> "

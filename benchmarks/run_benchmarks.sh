@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Speed benchmarks (never part of the tests). Writes JSON, Markdown tables and plots to
 # results/benchmarks/. Run on an otherwise idle machine, after scripts/setup.sh.
-#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|precision|xi|scaling|step|profile|all]
+#   bash benchmarks/run_benchmarks.sh [single|peak|ewald-accuracy|ewald-speed|precision|real-space-precision|xi|scaling|step|profile|all]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 mkdir -p results/benchmarks
@@ -25,6 +25,9 @@ if run ewald-speed; then # seconds per evaluation against error
 fi
 if run precision; then # Spectral Ewald's grids in double and single precision
   $py benchmarks/ewald_report.py precision --capsules 27 --mesh-level 3
+fi
+if run real-space-precision; then # the real-space sum in double and single precision
+  $py benchmarks/ewald_report.py real-space-precision --capsules 27 --mesh-level 3
 fi
 if run xi; then # Spectral Ewald's automatic xi against others, at the workflow's tolerances
   # (ewald.tolerance auto at levels 3 and 4: the runs' summaries)

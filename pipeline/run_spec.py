@@ -36,13 +36,14 @@ ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
 
 # The options whose capsim default changed since physics version 1: (the default then, the
-# default now, whether a dilute run uses it). Measured to hold the accuracy at 1.3 times
-# less cost per step (docs/performance.md, "The defaults of precision and quadrature");
+# default now, whether a dilute run uses it). Measured to hold the accuracy at less cost
+# per step (docs/performance.md, "The defaults of precision and quadrature");
 # tests/python/test_archive.py checks "now" against `capsim params`.
 CHANGED_DEFAULTS = {
     "ewald.precision": ("double", "auto", False),
     "quadrature.near_ratio": (1.5, 1, True),
     "quadrature.far_ratio": (2, 1.5, True),
+    "ewald.real_space_precision": ("double", "auto", False),
 }
 
 
@@ -148,14 +149,16 @@ class RunSpec:
         level 3, M 27, Ca 0.2 17.5 s, level 4 10.8 times that (docs/performance.md),
         bending eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s
         at level 3; all measured with the defaults of physics version 1. A suspension
-        that takes the present ones of CHANGED_DEFAULTS: 0.77 of that,
-        benchmarks/records/batch_compare.json)."""
+        that takes the present ones of CHANGED_DEFAULTS: 0.63 of that, with the present
+        build: 0.49-0.52 of the cost of 4952f1d's build, benchmarks/records/
+        build_compare_defaults.json, whose step was 1.22-1.26 times the profile's,
+        build_compare.json)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
         present = not self.dilute and all(_same_value(self.taken(name), now)
                                           for name, (_, now, _) in CHANGED_DEFAULTS.items())
-        return base * per_level * stiff * 0.2 / self.ca * (0.77 if present else 1.0)
+        return base * per_level * stiff * 0.2 / self.ca * (0.63 if present else 1.0)
 
     def segment_ends(self, minutes=None, strain=None):
         """The pause times of the run's segments and its t_end last: segments of

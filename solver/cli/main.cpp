@@ -199,6 +199,10 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
                 "method spectral: its grids and FFTs in double, single or auto precision "
                 "(as ewald.precision)")
       ->check(CLI::IsMember({"double", "single", "auto"}));
+  b->add_option("--real-space-precision", a.o.real_space_precision,
+                "the real-space sum in double, single or auto precision (as "
+                "ewald.real_space_precision)")
+      ->check(CLI::IsMember({"double", "single", "auto"}));
   b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")
       ->capture_default_str()
       ->check(finite_number());

@@ -14,8 +14,8 @@ namespace capsim {
 // Horner's rule on every Step-th coefficient a[I], a[I + Step], ... (a[0] the highest
 // power), unrolled at compile time: a loop left inside would stop the callers' loops
 // vectorising.
-template <int I, int Step, int N>
-CAPSIM_HD_INLINE double horner(const double* a, double w, double p) {
+template <int I, int Step, int N, class T>
+CAPSIM_HD_INLINE T horner(const T* a, T w, T p) {
   if constexpr (I >= N)
     return p;
   else
@@ -25,13 +25,13 @@ CAPSIM_HD_INLINE double horner(const double* a, double w, double p) {
 // The polynomial a[0] z^(N-1) + ... + a[N-1] (N a multiple of 4) as four interleaved
 // Horner chains in w = z^4: sum_j z^j Q_j(z^4). A vectorised kernel is limited by the
 // latency of its longest chain of dependent FMAs, which this cuts fourfold.
-template <int N> CAPSIM_HD_INLINE double polynomial4(const double* a, double z) {
+template <int N, class T> CAPSIM_HD_INLINE T polynomial4(const T* a, T z) {
   static_assert(N % 4 == 0, "polynomial4 needs a multiple of 4 coefficients");
-  const double z2 = z * z, w = z2 * z2;
-  const double q3 = horner<4, 4, N>(a, w, a[0]); // powers 3 mod 4
-  const double q2 = horner<5, 4, N>(a, w, a[1]);
-  const double q1 = horner<6, 4, N>(a, w, a[2]);
-  const double q0 = horner<7, 4, N>(a, w, a[3]);
+  const T z2 = z * z, w = z2 * z2;
+  const T q3 = horner<4, 4, N>(a, w, a[0]); // powers 3 mod 4
+  const T q2 = horner<5, 4, N>(a, w, a[1]);
+  const T q1 = horner<6, 4, N>(a, w, a[2]);
+  const T q0 = horner<7, 4, N>(a, w, a[3]);
   return (q0 + z * q1) + z2 * (q2 + z * q3);
 }
 
@@ -71,6 +71,26 @@ CAPSIM_HD_INLINE double exp_nonpositive(double y) {
   return p * scale;
 }
 
+// exp(y) for y <= 0 in single precision (y below -87 gives 0-ish values): the same
+// reduction with a degree-7 Taylor polynomial (truncation 0.35^8/8! = 5e-9, below the
+// float rounding of 6e-8).
+CAPSIM_HD_INLINE float exp_nonpositive(float y) {
+  constexpr float taylor[8] = {1.0f / 5040.0f, 1.0f / 720.0f, 1.0f / 120.0f, 1.0f / 24.0f,
+                               1.0f / 6.0f,    0.5f,          1.0f,          1.0f};
+  y = y < -87.0f ? -87.0f : y;
+  const float shifter = 12582912.0f; // 1.5 * 2^23: rounds to an integer
+  const float t = y * 1.44269504f + shifter;
+  const float n = t - shifter;
+  const float r = (y - n * 0.693145751953125f) - n * 1.42860677e-06f;
+  const float p = polynomial4<8>(taylor, r);
+  std::int32_t bits;
+  std::memcpy(&bits, &t, sizeof bits);
+  bits = (bits - std::int32_t(0x4B400000) + 127) << 23;
+  float scale;
+  std::memcpy(&scale, &bits, sizeof scale);
+  return p * scale;
+}
+
 // The scaled complementary error function erfcx(x) = exp(x^2) erfc(x) for x >= 0, by
 // Weideman's rational expansion (SIAM J. Numer. Anal. 31, 1994, eq. for w(z) at z = i x):
 //   erfcx(x) = 2 p(Z)/(K + x)^2 + 1/(sqrt(pi) (K + x)),  Z = (K - x)/(K + x),
@@ -96,6 +116,22 @@ CAPSIM_HD_INLINE double erfcx_nonnegative(double x, double inv) {
   const double z = (kErfcxK - x) * inv;
   const double p = polynomial4<32>(a, z);
   return (2.0 * p * inv + 0.56418958354775628) * inv; // 0.5641... = 1/sqrt(pi)
+}
+
+// erfcx in single precision: Weideman's expansion with N = 16 (p of degree 15, K =
+// sqrt(16/sqrt 2)); relative error about 4e-7 on [0, 6] evaluated in float (1.3e-7 of
+// it the expansion's).
+constexpr float kErfcxKSingle = 3.363585661014858f;
+
+CAPSIM_HD_INLINE float erfcx_nonnegative(float x, float inv) {
+  constexpr float a[16] = {
+      9.93932254e-07f,  3.98128758e-06f, -5.58423341e-06f, -2.73464046e-05f,
+      2.17098679e-05f,  2.10710564e-04f, 8.70315843e-05f,  -1.52765974e-03f,
+      -3.88101519e-03f, 3.68256732e-03f, 5.18224024e-02f,  1.91241727e-01f,
+      4.69290901e-01f,  8.86447830e-01f, 1.36224082e+00f,  1.74839589e+00f};
+  const float z = (kErfcxKSingle - x) * inv;
+  const float p = polynomial4<16>(a, z);
+  return (2.0f * p * inv + 0.56418958f) * inv;
 }
 
 CAPSIM_HD double erfcx_nonnegative(double x) {

@@ -347,13 +347,23 @@ const std::vector<Param>& parameters() {
       named(
           "ewald.precision", {"double", "single", "auto"},
           [](RunOptions& o, const std::string& s) {
-            o.ewald.precision = parse_grid_precision(s);
+            o.ewald.precision = parse_precision(s);
           },
           [](const RunOptions& o) { return to_string(o.ewald.precision); },
           "method spectral: the precision of its grids and FFTs; auto = single where "
           "ewald.tolerance >= 1e-5 (its rounding, about 3e-7 of the velocities, is then "
           "at most a thirtieth of the tolerance) and the backend has single grids (cpu), "
           "double otherwise"),
+      named(
+          "ewald.real_space_precision", {"double", "single", "auto"},
+          [](RunOptions& o, const std::string& s) {
+            o.ewald.real_space_precision = parse_precision(s);
+          },
+          [](const RunOptions& o) { return to_string(o.ewald.real_space_precision); },
+          "the precision of the real-space sum's separations and kernel (the sums per "
+          "target in double); auto = single where ewald.tolerance >= 1e-5 (its rounding, "
+          "about 1e-7 of the velocities, is then at most a hundredth of the tolerance) "
+          "and the backend has it (cpu), double otherwise"),
       real(
           "suspension.min_gap", {0, 2, false, false},
           [](RunOptions& o) -> double& { return o.suspension.min_gap; },

@@ -23,7 +23,8 @@ public:
   // the kernels' fixed bound.
   static FlowCapabilities capabilities() {
     FlowCapabilities c;
-    c.consistent_load = c.bending = c.repulsion = c.direct_sums = c.single_grids = false;
+    c.consistent_load = c.bending = c.repulsion = c.direct_sums = c.single_grids =
+        c.single_real_space = false;
     c.max_cut_fraction = 1.0 / 3.0;
     c.max_spread_support = kMaxSpreadSupport;
     return c;

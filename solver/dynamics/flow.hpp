@@ -48,6 +48,7 @@ struct FlowCapabilities {
   double max_cut_fraction = INFINITY; // r_cut must stay below this fraction of L
   int max_spread_support = INT_MAX;   // Spectral-Ewald support P at most this
   bool single_grids = true;           // ewald.precision single (grids and FFTs)
+  bool single_real_space = true;      // ewald.real_space_precision single
 };
 
 // Wall seconds in the stages of the flow's evaluations, accumulated while a profile is

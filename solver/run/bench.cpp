@@ -148,9 +148,14 @@ std::string run_benchmark(const BenchOptions& o) {
   PeriodicBox box;
   EwaldOptions request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
   try {
-    request.precision = parse_grid_precision(o.precision);
+    request.precision = parse_precision(o.precision);
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("--precision: ") + e.what());
+  }
+  try {
+    request.real_space_precision = parse_precision(o.real_space_precision);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(std::string("--real-space-precision: ") + e.what());
   }
   try {
     box = make_periodic_box(c.L, request, nodes, points);
@@ -197,6 +202,7 @@ std::string run_benchmark(const BenchOptions& o) {
     j.field("support", box.grid.support);
     j.field("precision", box.grid.single ? "single" : "double");
   }
+  j.field("real_space_precision", box.ewald.single_real ? "single" : "double");
   j.field("repeats", o.repeats);
   j.field("seconds_per_eval", per_eval);
   j.begin_object("seconds");

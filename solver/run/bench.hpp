@@ -16,8 +16,9 @@ struct BenchOptions {
   double tolerance = 1e-4;
   double strain = 0.0;
   int seed = 1;
-  double xi = 0;                    // 0: the automatic choice of `capsim run`
-  std::string precision = "double"; // spectral grids: double, single or auto
+  double xi = 0;                               // 0: the automatic choice of `capsim run`
+  std::string precision = "double";            // spectral grids: double, single or auto
+  std::string real_space_precision = "double"; // the real-space sum: the same choices
   int repeats = 3;            // timed evaluations (spectral: after an untimed warm-up)
   std::string reference_file; // cache of the reference velocities ("" = none)
   bool reference = true;      // false: no reference, no rel_error

@@ -39,6 +39,10 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
     m << "ewald.precision: must be double" << with
       << " (its grids and FFTs are double precision), got single (set, or auto at "
          "ewald.tolerance >= 1e-5)";
+  else if (s.box.L > 0 && s.box.ewald.single_real && !caps.single_real_space)
+    m << "ewald.real_space_precision: must be double" << with
+      << " (its real-space sum is double precision), got single (set, or auto at "
+         "ewald.tolerance >= 1e-5)";
   return m.str();
 }
 

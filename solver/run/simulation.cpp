@@ -52,8 +52,10 @@ PeriodicBox periodic_box(const RunOptions& o, const Topology& topo) {
   const FlowCapabilities caps = capabilities_of(parse_backend(o.backend));
   // auto chooses among what the backend has: double where it has no single grids (an
   // explicit single is refused there by unsupported_by, naming the key).
-  if (r.precision == GridPrecision::automatic && !caps.single_grids)
-    r.precision = GridPrecision::double_precision;
+  if (r.precision == Precision::automatic && !caps.single_grids)
+    r.precision = Precision::double_precision;
+  if (r.real_space_precision == Precision::automatic && !caps.single_real_space)
+    r.real_space_precision = Precision::double_precision;
   const long nodes = long(o.capsules) * topo.num_nodes;
   const long points = far_rule_points(topo, o.capsules);
   try {

@@ -107,7 +107,7 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   const Membrane bent(mesh.topology, mesh.positions.data(), 1.0, 0.05);
   const FlowCapabilities device = DeviceFlow::capabilities();
   FlowSetup consistent{plain}, direct{plain}, repelled{plain}, wide{plain},
-      spectral{plain}, single{plain};
+      spectral{plain}, single{plain}, single_real{plain};
   consistent.load = LoadMapping::consistent;
   direct.box = make_periodic_box(6.0, {EwaldMethod::direct, 1e-4}, 100, 300);
   repelled.repulsion.force = 5;
@@ -115,17 +115,21 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   // The automatic xi within the device's limit on r_cut, double grids (what a run asks of
   // the device when its precision is auto) and single ones (auto at 1e-4 on the CPU).
   EwaldOptions automatic{EwaldMethod::spectral, 1e-4};
-  automatic.precision = GridPrecision::double_precision;
+  automatic.precision = automatic.real_space_precision = Precision::double_precision;
   spectral.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
-  automatic.precision = GridPrecision::automatic;
+  automatic.precision = Precision::automatic;
   single.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
+  automatic.precision = Precision::double_precision;
+  automatic.real_space_precision = Precision::automatic;
+  single_real.box = make_periodic_box(6.0, automatic, 100, 300, device.max_cut_fraction);
   const std::vector<std::pair<FlowSetup, std::string>> refused = {
       {{bent}, "membrane.bending: must be 0 with backend: cuda"},
       {consistent, "membrane.load: must be lumped with backend: cuda"},
       {direct, "method: must be spectral with backend: cuda"},
       {repelled, "suspension.repulsion_force: must be 0 with backend: cuda"},
       {wide, "ewald.xi: the real-space cut-off"},
-      {single, "ewald.precision: must be double with backend: cuda"}};
+      {single, "ewald.precision: must be double with backend: cuda"},
+      {single_real, "ewald.real_space_precision: must be double with backend: cuda"}};
   for (const auto& [setup, message] : refused) {
     CHECK_THAT(unsupported_by(setup, device, Backend::cuda), Catch::StartsWith(message));
     CHECK(unsupported_by(setup, CpuFlow::capabilities(), Backend::cpu).empty());

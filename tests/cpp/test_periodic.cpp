@@ -29,9 +29,11 @@ struct Suspension {
   }
   int count() const { return int(x.size()) / mesh.topology.num_nodes; }
   std::vector<Vec3> periodic(double L, double strain, double tol, double xi = 0,
-                             bool spectral = false, int patch_level = -1) const {
+                             bool spectral = false, int patch_level = -1,
+                             bool single_real = false) const {
     std::vector<Vec3> u;
     EwaldParameters e = choose_ewald_parameters(L, tol, xi);
+    e.single_real = single_real;
     std::unique_ptr<SpectralEwald> se;
     if (spectral)
       se = std::make_unique<SpectralEwald>(L, e, choose_spectral_parameters(L, e, tol));
@@ -113,6 +115,28 @@ TEST_CASE("periodic: with Spectral Ewald a large xi (short real space) changes n
   const double diff = relative_difference(short_range, reference);
   INFO("relative difference " << diff);
   CHECK(diff < 1e-5);
+}
+
+// The real-space sum in single precision (ewald.real_space_precision) rounds separations,
+// loads and kernel to 24 bits, and sums the terms in double: the velocity moves by about
+// 1e-7 of itself (the largest difference over the nodes against the largest velocity), a
+// hundredth of the tolerances from which `auto` takes it.
+TEST_CASE("periodic: the real-space sum in single precision rounds, but keeps the "
+          "tolerance",
+          "[periodic]") {
+  Suspension two({{0.2, 0.1, 0.0}, {2.9, 2.4, -0.3}});
+  const double L = 6.0, xi = 2.0; // r_cut 1.2 and 1.8: 60 and 200 pairs per target
+  const auto reference = two.periodic(L, 0.3, 1e-10, xi, true);
+  for (double tol : {1e-3, 1e-5}) {
+    const auto dbl = two.periodic(L, 0.3, tol, xi, true);
+    const auto sgl = two.periodic(L, 0.3, tol, xi, true, -1, true);
+    const double rounding = relative_difference(sgl, dbl);
+    INFO("tol " << tol << ": single against double " << rounding << ", against the "
+                << "reference " << relative_difference(sgl, reference));
+    CHECK(rounding > 1e-9); // the single path ran: its rounding shows
+    CHECK(rounding < 1e-6); // measured 1.0e-7 at both
+    CHECK(relative_difference(sgl, reference) < tol);
+  }
 }
 
 TEST_CASE("periodic: method patches converges to the fine sum at second order in the "

@@ -63,6 +63,18 @@ TEST_CASE("periodic cells: every image within reach is found once, on a sheared 
         std::sort(expected.begin(), expected.end());
         std::sort(found.begin(), found.end());
         CHECK(found == expected);
+        // Wider cells (the real-space and near-triangle searches') find the same images.
+        for (double cells_per_reach : {2.0, 1.5}) {
+          const PeriodicCells wide(g, reach, points, PeriodicCells::Index::table,
+                                   cells_per_reach);
+          std::vector<int> found_wide;
+          wide.for_neighbours(x, [&](int i, Vec3 image) {
+            if (norm(image - x) < reach)
+              found_wide.push_back(i);
+          });
+          std::sort(found_wide.begin(), found_wide.end());
+          CHECK(found_wide == expected);
+        }
       }
     }
   }

@@ -1,7 +1,7 @@
-#include "stokes/kernels/ewald_kernel.hpp"
 #include "stokes/ewald/ewald_reciprocal.hpp"
 #include "stokes/ewald/ewald_setup.hpp"
 #include "stokes/ewald/spectral_ewald.hpp"
+#include "stokes/kernels/ewald_kernel.hpp"
 #include "stokes/kernels/stokeslet.hpp"
 
 #include <catch2/catch.hpp>
@@ -98,16 +98,21 @@ TEST_CASE("spectral ewald: single-precision grids round, but keep the tolerance"
   }
 }
 
-// The default precision is automatic: single grids from kSingleGridTolerance on, where
-// their rounding (above) is at most a thirtieth of the tolerance; double below, so that a
-// run at 1e-6 or tighter is computed as before.
-TEST_CASE("spectral ewald: the default grids are single from 1e-5 on, double below",
+// The default precisions are automatic: single grids and real-space sum from
+// kSinglePrecisionTolerance on, where their rounding (above; test_periodic.cpp) is at
+// most a thirtieth of the tolerance; double below, so that a run at 1e-6 or tighter is
+// computed as before.
+TEST_CASE("spectral ewald: the default grids and real-space sum are single from 1e-5 "
+          "on, double below",
           "[spectral]") {
   for (double tol : {1e-3, 1e-5, 9.9e-6, 1e-6, 1e-9}) {
     const EwaldOptions asked{EwaldMethod::spectral, tol};
-    REQUIRE(asked.precision == GridPrecision::automatic);
+    REQUIRE(asked.precision == Precision::automatic);
+    REQUIRE(asked.real_space_precision == Precision::automatic);
     INFO("tolerance " << tol);
-    CHECK(make_periodic_box(5.0, asked, 1000, 3000).grid.single == (tol >= 1e-5));
+    const PeriodicBox box = make_periodic_box(5.0, asked, 1000, 3000);
+    CHECK(box.grid.single == (tol >= 1e-5));
+    CHECK(box.ewald.single_real == (tol >= 1e-5));
   }
 }
 

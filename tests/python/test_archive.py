@@ -196,11 +196,12 @@ def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
     assert "0 failed" in (tmp_path / "results" / "check" / "report.md").read_text()
 
 
-def test_a_quantitative_record_replays_a_stretch_to_the_last_bit():
+def test_a_quantitative_record_replays_a_stretch_to_its_rounding():
     """The cheapest record of archive/quantitative that keeps a state before its last
     row (a run of several segments keeps the start of its last one) replays 0.1 strain
-    units from it to the archived rows exactly: the record's own thread count, so the
-    same reductions in the same order."""
+    units from it to the archived rows within one unit in their last place: the record's
+    own thread count, but not its build, whose sums the present one may order otherwise
+    (archive.ROUNDING_UNITS)."""
     store = ROOT / "archive" / "quantitative"
     candidates = []
     for path in (archive._records([store]) if store.exists() else []):
@@ -211,7 +212,7 @@ def test_a_quantitative_record_replays_a_stretch_to_the_last_bit():
     if not candidates:
         pytest.skip("no record of archive/quantitative keeps a state before its end yet")
     rows, difference = archive.replay(min(candidates)[1], CAPSIM, span=0.1)
-    assert rows >= 1 and difference == 0.0
+    assert rows >= 1 and difference <= archive.ROUNDING_UNITS
 
 
 def test_a_run_recorded_only_once_it_has_left_its_start(tmp_path, monkeypatch):

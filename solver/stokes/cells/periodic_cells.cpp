@@ -6,12 +6,11 @@
 namespace capsim {
 
 PeriodicCells::PeriodicCells(const ShearedLattice& g, double reach,
-                             const std::vector<Vec3>& points, Index index)
+                             const std::vector<Vec3>& points, Index index,
+                             double cells_per_reach)
     : g_(g), reach_(reach) {
   for (int a = 0; a < 3; ++a)
-    // Cells a third of `reach` wide: the cells the sphere meets then hold about twice
-    // its volume, where one cell per reach would hold over six times it.
-    n_[a] = std::max(1, std::min(128, int(3.0 * g.L / reach)));
+    n_[a] = std::max(1, std::min(128, int(cells_per_reach * g.L / reach)));
   // |du2|, |du3| <= reach/L for images within reach.
   half_rows_ = int(std::floor(reach * n_[1] / g.L)) + 1;
   half_layers_ = int(std::floor(reach * n_[2] / g.L)) + 1;

@@ -1,6 +1,6 @@
 #pragma once
 // Neighbour search in a sheared periodic box: points are wrapped into the primary cell
-// and binned into cells in fractional coordinates (about a third of `reach` wide). The
+// and binned into cells in fractional coordinates (a fraction of `reach` wide). The
 // images of all points within `reach` of any x lie in the cells around x's cell that the
 // sphere of radius `reach` meets: layers and rows across the flow up to floor(reach n/L)
 // + 1 cells away, and along each row the cells that the sphere's chord (widened by the
@@ -23,8 +23,11 @@ public:
   // as the repulsion's short range in a large box. The order is the same.
   enum class Index { table, search };
 
+  // Cells 1/cells_per_reach of `reach` wide (the stencil's cells then hold about twice
+  // the sphere's volume at 3, over six times it at 1; fewer cells cost less to build and
+  // walk where points are sparse).
   PeriodicCells(const ShearedLattice& g, double reach, const std::vector<Vec3>& points,
-                Index index = Index::table);
+                Index index = Index::table, double cells_per_reach = 3.0);
 
   // Calls visit(begin, end, shift) for runs [begin, end) of points in cell order
   // (`point(j)`, `wrapped(j)`) whose images wrapped(j) + shift cover the cells around x.

@@ -63,6 +63,11 @@ void check_given_xi(double L, double xi, const EwaldParameters& p) {
     throw std::invalid_argument(m.str());
 }
 
+bool takes_single(Precision p, double tolerance) {
+  return p == Precision::single_precision ||
+         (p == Precision::automatic && tolerance >= kSinglePrecisionTolerance);
+}
+
 } // namespace
 
 PeriodicBox make_periodic_box(double L, const EwaldOptions& request, long nodes,
@@ -80,38 +85,37 @@ PeriodicBox make_periodic_box(double L, const EwaldOptions& request, long nodes,
     xi = std::max(xi, x_cut / (0.95 * max_cut_fraction * L));
   }
   box.ewald = choose_ewald_parameters(L, tolerance, xi);
+  box.ewald.single_real = takes_single(request.real_space_precision, tolerance);
   if (request.xi > 0)
     check_given_xi(L, xi, box.ewald);
   if (request.method == EwaldMethod::spectral) {
     box.grid = choose_spectral_parameters(L, box.ewald, tolerance);
-    box.grid.single = request.precision == GridPrecision::single_precision ||
-                      (request.precision == GridPrecision::automatic &&
-                       tolerance >= kSingleGridTolerance);
+    box.grid.single = takes_single(request.precision, tolerance);
   }
   return box;
 }
 
-GridPrecision parse_grid_precision(const std::string& name) {
+Precision parse_precision(const std::string& name) {
   if (name == "double")
-    return GridPrecision::double_precision;
+    return Precision::double_precision;
   if (name == "single")
-    return GridPrecision::single_precision;
+    return Precision::single_precision;
   if (name == "auto")
-    return GridPrecision::automatic;
+    return Precision::automatic;
   throw std::invalid_argument("must be one of {double, single, auto}, got '" + name +
                               "'");
 }
 
-std::string to_string(GridPrecision p) {
+std::string to_string(Precision p) {
   switch (p) {
-  case GridPrecision::double_precision:
+  case Precision::double_precision:
     return "double";
-  case GridPrecision::single_precision:
+  case Precision::single_precision:
     return "single";
-  case GridPrecision::automatic:
+  case Precision::automatic:
     return "auto";
   }
-  throw std::logic_error("a grid precision without a name");
+  throw std::logic_error("a precision without a name");
 }
 
 ReciprocalSum reciprocal_sum(const PeriodicBox& box, SpectralEwald* spectral) {

@@ -2,9 +2,9 @@
 // One home for the set-up of the periodic sums: the method, and the choice of xi, the
 // cut-offs and the Spectral-Ewald grid from one tolerance. A run, `capsim bench` and the
 // backend self-test all build their box here.
-#include "stokes/single_layer/periodic_single_layer.hpp"
-#include "stokes/kernels/periodic_stokeslet.hpp"
 #include "stokes/ewald/spectral_ewald.hpp"
+#include "stokes/kernels/periodic_stokeslet.hpp"
+#include "stokes/single_layer/periodic_single_layer.hpp"
 
 #include <cmath>
 #include <string>
@@ -29,17 +29,18 @@ struct PeriodicBox {
   int patch_level = 1;     // method patches: patches are the faces of this level
 };
 
-// The precision of the Spectral-Ewald grids and FFTs: double, single, or automatic
-// (single where the tolerance is at least kSingleGridTolerance).
-enum class GridPrecision { double_precision, single_precision, automatic };
+// The precision of a stage of the periodic sums (the Spectral-Ewald grids and FFTs, the
+// real-space sum): double, single, or automatic (single where the tolerance is at least
+// kSinglePrecisionTolerance).
+enum class Precision { double_precision, single_precision, automatic };
 
-GridPrecision parse_grid_precision(const std::string& name); // throws invalid_argument
-std::string to_string(GridPrecision p);
+Precision parse_precision(const std::string& name); // throws invalid_argument
+std::string to_string(Precision p);
 
-// Single precision rounds the velocities by about 3e-7 of themselves (rms; measured:
-// docs/performance.md, "Single-precision grids"); from this tolerance on that is at most
-// a thirtieth of the requested error.
-constexpr double kSingleGridTolerance = 1e-5;
+// Single precision rounds the velocities by about 3e-7 of themselves (the grids) and 1e-7
+// (the real-space sum; rms, measured: docs/performance.md, "Single precision"); from this
+// tolerance on that is at most a thirtieth of the requested error.
+constexpr double kSinglePrecisionTolerance = 1e-5;
 
 // What a run asks of the periodic sums: the one type from the run's options
 // (config/run_options.hpp: method, ewald.*) to the box.
@@ -48,7 +49,8 @@ struct EwaldOptions {
   double tolerance = 1e-6; // truncation tolerance of the real and reciprocal sums
   double xi = 0;           // splitting parameter; <= 0: automatic
   int patch_level = 1;     // method patches: patches = faces of this icosphere level
-  GridPrecision precision = GridPrecision::automatic; // method spectral: its grids
+  Precision precision = Precision::automatic;            // method spectral: its grids
+  Precision real_space_precision = Precision::automatic; // the real-space sum (CPU)
 };
 
 // The box of side L for `options`: xi as given, or (xi <= 0) the one of least modelled

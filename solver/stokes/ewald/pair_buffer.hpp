@@ -1,7 +1,7 @@
 #pragma once
 // Separations r = x - y and loads f of the pairs of one target, structure of arrays: the
 // input of the vectorised pair sums (stokeslet_sum here, screened_sum in
-// real_space_sum.hpp).
+// real_space_sum.hpp), in double or (the real-space sum's single precision) float.
 #include "common/vec3.hpp"
 
 #include <cstddef>
@@ -9,8 +9,8 @@
 
 namespace capsim {
 
-struct PairBuffer {
-  std::vector<double> rx, ry, rz, fx, fy, fz;
+template <class T> struct BasicPairBuffer {
+  std::vector<T> rx, ry, rz, fx, fy, fz;
   size_t n = 0;
 
   // Room for at least m pairs (the contents up to n are kept).
@@ -30,6 +30,8 @@ struct PairBuffer {
 private:
   __attribute__((noinline)) void grow() { reserve(2 * n + 64); }
 };
+
+using PairBuffer = BasicPairBuffer<double>;
 
 // sum_j J(r_j) f_j over the pairs (free-space Stokeslet, stokeslet.hpp), one vectorised
 // loop (AVX-512/AVX2 clones).

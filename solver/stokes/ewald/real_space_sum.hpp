@@ -15,6 +15,8 @@ namespace capsim {
 // inner loop (AVX-512/AVX2 clones).
 Vec3 screened_sum(size_t n, const double* rx, const double* ry, const double* rz,
                   const double* fx, const double* fy, const double* fz, double xi);
+Vec3 screened_sum(size_t n, const float* rx, const float* ry, const float* rz,
+                  const float* fx, const float* fy, const float* fz, float xi);
 
 // Flops of one term of screened_sum, counting add, multiply, divide and square root as
 // one each and an FMA as two: |r|^2 5, sqrt 1, x, x^2, x^3 3, exp 34, erfcx 71, e1 and

@@ -11,19 +11,30 @@ namespace capsim {
 
 constexpr double kSqrtPi = 1.77245385090551602730;
 
-// Real-space screened Stokeslet applied to f (eqs. 2.4, 2.6, 2.7), with erfc(x) written
-// as exp(-x^2) erfcx(x) through the branch-free functions of fast_special.hpp, so that
-// loops over sources vectorise.
-CAPSIM_HD_INLINE Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
-  const double rr = std::sqrt(dot(r, r)), x = xi * rr, x3 = x * x * x;
+// The two radial factors of the real-space screened Stokeslet (eqs. 2.4, 2.6, 2.7),
+// J^EI(r) f = a f + b r, from |r|^2 and r.f, with erfc(x) written as exp(-x^2) erfcx(x)
+// through the branch-free functions of fast_special.hpp, so that loops over sources
+// vectorise. T = double (1e-14 relative) or float (4e-7: ewald.real_space_precision).
+template <class T>
+CAPSIM_HD_INLINE void ewald_real_factors(T r2, T rf, T xi, T& a, T& b) {
+  const T K = sizeof(T) == sizeof(float) ? T(kErfcxKSingle) : T(kErfcxK);
+  const T rr = std::sqrt(r2), x = xi * rr, x3 = x * x * x;
   // One division for both reciprocals, 1/r and 1/(K + x).
-  const double inv_both = 1.0 / (rr * (kErfcxK + x));
-  const double rinv = (kErfcxK + x) * inv_both;
-  const double g = exp_nonpositive(-x * x), c = erfcx_nonnegative(x, rr * inv_both);
-  constexpr double inv_sqrt_pi = 0.56418958354775628; // a multiply, not a division
-  const double e1 = g * (c + (4.0 * x3 - 6.0 * x) * inv_sqrt_pi);
-  const double e2 = g * (c + (2.0 * x - 4.0 * x3) * inv_sqrt_pi);
-  return (e1 * rinv) * f + (e2 * dot(r, f) * rinv * rinv * rinv) * r;
+  const T inv_both = T(1) / (rr * (K + x));
+  const T rinv = (K + x) * inv_both;
+  const T g = exp_nonpositive(-x * x), c = erfcx_nonnegative(x, rr * inv_both);
+  const T inv_sqrt_pi = T(0.56418958354775628); // a multiply, not a division
+  const T e1 = g * (c + (T(4) * x3 - T(6) * x) * inv_sqrt_pi);
+  const T e2 = g * (c + (T(2) * x - T(4) * x3) * inv_sqrt_pi);
+  a = e1 * rinv;
+  b = e2 * rf * rinv * rinv * rinv;
+}
+
+// The real-space screened Stokeslet applied to f, in double precision.
+CAPSIM_HD_INLINE Vec3 ewald_real_apply(Vec3 r, Vec3 f, double xi) {
+  double a, b;
+  ewald_real_factors(dot(r, r), dot(r, f), xi, a, b);
+  return a * f + b * r;
 }
 
 // Reciprocal-space weight of wave vector k (eq. 2.5 without the cosine) applied to f:

@@ -11,9 +11,10 @@
 namespace capsim {
 
 struct EwaldParameters {
-  double xi = 0;    // splitting parameter
-  double r_cut = 0; // real-space images with |r_n| < r_cut
-  double k_cut = 0; // wave vectors with 0 < |k| < k_cut
+  double xi = 0;            // splitting parameter
+  double r_cut = 0;         // real-space images with |r_n| < r_cut
+  double k_cut = 0;         // wave vectors with 0 < |k| < k_cut
+  bool single_real = false; // the CPU's real-space sum in single precision
 };
 
 // Cut-offs for a relative truncation error ~ tolerance: the real-space terms decay like
