@@ -35,60 +35,63 @@ template <int N, class T> CAPSIM_HD_INLINE T polynomial4(const T* a, T z) {
   return (q0 + z * q1) + z2 * (q2 + z * q3);
 }
 
-// exp(y) for y <= 0 (y below -700 gives 0-ish values; exp(-700) ~ 1e-304): Cody-Waite
-// reduction y = n ln 2 + r, |r| <= ln2/2, a degree-15 Taylor polynomial (truncation
-// 0.35^16/16! = 2e-21) and 2^n built in the exponent bits.
-CAPSIM_HD_INLINE double exp_nonpositive(double y) {
-  // 1/15!, 1/14!, ..., 1/1!, 1/0!
-  constexpr double taylor[16] = {1.0 / 1307674368000.0,
-                                 1.0 / 87178291200.0,
-                                 1.0 / 6227020800.0,
-                                 1.0 / 479001600.0,
-                                 1.0 / 39916800.0,
-                                 1.0 / 3628800.0,
-                                 1.0 / 362880.0,
-                                 1.0 / 40320.0,
-                                 1.0 / 5040.0,
-                                 1.0 / 720.0,
-                                 1.0 / 120.0,
-                                 1.0 / 24.0,
-                                 1.0 / 6.0,
-                                 0.5,
-                                 1.0,
-                                 1.0};
-  y = y < -700.0 ? -700.0 : y;
-  const double shifter = 6755399441055744.0; // 1.5 * 2^52: rounds to an integer
-  const double t = y * 1.4426950408889634 + shifter;
-  const double n = t - shifter;
-  const double r = (y - n * 0.6931471803691238) - n * 1.9082149292705877e-10;
-  const double p = polynomial4<16>(taylor, r);
-  // 2^n: the low bits of t hold n (two's complement); move n + 1023 into the exponent.
-  std::int64_t bits;
+// exp(y) for y <= 0 by Cody-Waite reduction y = n ln 2 + r, |r| <= ln2/2, a Taylor
+// polynomial in r and 2^n built in the exponent bits; the constants of one precision:
+template <class T, class Bits, int N> struct ExpReduction {
+  T lowest;    // y is raised to this (0-ish results below it)
+  T shifter;   // 1.5 * 2^mantissa: adding it rounds to an integer
+  T ln2_hi;    // ln 2 in few enough bits that n ln2_hi is exact
+  T ln2_lo;    // the rest of ln 2
+  Bits offset; // the bits of the shifter, less the exponent bias
+  int mantissa;
+  T taylor[N]; // 1/(N-1)!, ..., 1/1!, 1/0!
+};
+
+template <class T, class Bits, int N>
+CAPSIM_HD_INLINE T exp_reduced(T y, const ExpReduction<T, Bits, N>& c) {
+  y = y < c.lowest ? c.lowest : y;
+  const T t = y * T(1.4426950408889634) + c.shifter;
+  const T n = t - c.shifter;
+  const T r = (y - n * c.ln2_hi) - n * c.ln2_lo;
+  const T p = polynomial4<N>(c.taylor, r);
+  // 2^n: the low bits of t hold n (two's complement); move n + bias into the exponent.
+  Bits bits;
   std::memcpy(&bits, &t, sizeof bits);
-  bits = (bits - std::int64_t(0x4338000000000000) + 1023) << 52;
-  double scale;
+  bits = (bits - c.offset) << c.mantissa;
+  T scale;
   std::memcpy(&scale, &bits, sizeof scale);
   return p * scale;
 }
 
-// exp(y) for y <= 0 in single precision (y below -87 gives 0-ish values): the same
-// reduction with a degree-7 Taylor polynomial (truncation 0.35^8/8! = 5e-9, below the
-// float rounding of 6e-8).
+// Double: y below -700 gives 0-ish values (exp(-700) ~ 1e-304); degree 15 (truncation
+// 0.35^16/16! = 2e-21).
+CAPSIM_HD_INLINE double exp_nonpositive(double y) {
+  constexpr ExpReduction<double, std::int64_t, 16> c{
+      -700.0,
+      6755399441055744.0,
+      0.6931471803691238,
+      1.9082149292705877e-10,
+      std::int64_t(0x4338000000000000) - 1023,
+      52,
+      {1.0 / 1307674368000.0, 1.0 / 87178291200.0, 1.0 / 6227020800.0, 1.0 / 479001600.0,
+       1.0 / 39916800.0, 1.0 / 3628800.0, 1.0 / 362880.0, 1.0 / 40320.0, 1.0 / 5040.0,
+       1.0 / 720.0, 1.0 / 120.0, 1.0 / 24.0, 1.0 / 6.0, 0.5, 1.0, 1.0}};
+  return exp_reduced(y, c);
+}
+
+// Single: y below -87 gives 0-ish values; degree 7 (truncation 0.35^8/8! = 5e-9, below
+// the float rounding of 6e-8).
 CAPSIM_HD_INLINE float exp_nonpositive(float y) {
-  constexpr float taylor[8] = {1.0f / 5040.0f, 1.0f / 720.0f, 1.0f / 120.0f, 1.0f / 24.0f,
-                               1.0f / 6.0f,    0.5f,          1.0f,          1.0f};
-  y = y < -87.0f ? -87.0f : y;
-  const float shifter = 12582912.0f; // 1.5 * 2^23: rounds to an integer
-  const float t = y * 1.44269504f + shifter;
-  const float n = t - shifter;
-  const float r = (y - n * 0.693145751953125f) - n * 1.42860677e-06f;
-  const float p = polynomial4<8>(taylor, r);
-  std::int32_t bits;
-  std::memcpy(&bits, &t, sizeof bits);
-  bits = (bits - std::int32_t(0x4B400000) + 127) << 23;
-  float scale;
-  std::memcpy(&scale, &bits, sizeof scale);
-  return p * scale;
+  constexpr ExpReduction<float, std::int32_t, 8> c{-87.0f,
+                                                   12582912.0f,
+                                                   0.693145751953125f,
+                                                   1.42860677e-06f,
+                                                   std::int32_t(0x4B400000) - 127,
+                                                   23,
+                                                   {1.0f / 5040.0f, 1.0f / 720.0f,
+                                                    1.0f / 120.0f, 1.0f / 24.0f,
+                                                    1.0f / 6.0f, 0.5f, 1.0f, 1.0f}};
+  return exp_reduced(y, c);
 }
 
 // The scaled complementary error function erfcx(x) = exp(x^2) erfc(x) for x >= 0, by
