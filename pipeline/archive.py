@@ -34,6 +34,7 @@ storage but do not decide which run is which. A record keyed by the run's own ph
 import argparse
 import hashlib
 import json
+import math
 import shutil
 import subprocess
 import sys
@@ -319,16 +320,17 @@ def _units_apart(stored, replayed):
     """The largest difference of the replayed rows, rounded as the record stores them,
     from the stored ones, in units in the last place of the dataset's largest value or
     of 1, whichever is larger: the quantities are of order 1 in the solver's units, and
-    one far below it (the volume drift, 1e-14) is round-off itself."""
+    one far below it (the volume drift, 1e-14) is round-off itself. Counts (the step,
+    the repelled nodes) have no rounding: any difference is infinitely many units."""
     stored = np.asarray(stored)
     rounded = np.asarray(replayed).astype(stored.dtype).astype(np.float64)
     diff = np.max(np.abs(stored.astype(np.float64) - rounded), initial=0.0)
     if diff == 0:
         return 0.0
+    if not np.issubdtype(stored.dtype, np.floating):
+        return math.inf
     scale = max(float(np.max(np.abs(stored))), 1.0)
-    unit = np.spacing(stored.dtype.type(scale)) if np.issubdtype(stored.dtype,
-                                                                 np.floating) else 1
-    return float(diff / unit)
+    return float(diff / np.spacing(stored.dtype.type(scale)))
 
 
 def replay(record_dir, capsim, threads=None, span=None):
