@@ -149,8 +149,8 @@ class RunSpec:
         level 3, M 27, Ca 0.2 17.5 s, level 4 10.8 times that (docs/performance.md),
         bending eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s
         at level 3; all measured with the defaults of physics version 1. A suspension
-        that takes the present ones of CHANGED_DEFAULTS: 0.63 of that, with the present
-        build: 0.49-0.52 of the cost of 4952f1d's build, benchmarks/records/
+        that takes the present ones of CHANGED_DEFAULTS: 0.56 of that, with the present
+        build: 0.44-0.47 of the cost of 4952f1d's build, benchmarks/records/
         build_compare_defaults.json, whose step was 1.22-1.26 times the profile's,
         build_compare.json)."""
         per_level = 10.8 ** (self.level - 3)
@@ -158,7 +158,7 @@ class RunSpec:
         stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
         present = not self.dilute and all(_same_value(self.taken(name), now)
                                           for name, (_, now, _) in CHANGED_DEFAULTS.items())
-        return base * per_level * stiff * 0.2 / self.ca * (0.63 if present else 1.0)
+        return base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
 
     def segment_ends(self, minutes=None, strain=None):
         """The pause times of the run's segments and its t_end last: segments of

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <malloc.h>
 #include <omp.h>
 
 namespace {
@@ -300,6 +301,13 @@ int report_parse_error(const CLI::App& app, const CLI::ParseError& e) {
 } // namespace
 
 int main(int argc, char** argv) {
+  // Every evaluation of the flow allocates and frees megabytes of work arrays (triangle
+  // loads, sources, pair buffers). Above its mmap threshold glibc hands such blocks back
+  // to the kernel when freed, so each evaluation paid the page faults and the zeroing of
+  // fresh pages again, 5-7 % of an evaluation at level 3 (docs/performance.md);
+  // kept in the heap, the blocks are reused, for 2 % more peak memory.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{"capsim " CAPSIM_VERSION
                ": neo-Hookean capsules in Stokes shear flow (boundary elements + FEM), "
                "after Matsunaga et al. (2016), J. Fluid Mech."};

@@ -9,3 +9,12 @@
 #else
 #define CAPSIM_VECTOR_CLONES
 #endif
+
+// CAPSIM_FLATTEN: every call inside the function inlined, lambdas and templates included,
+// so that a vector clone's callees are compiled for its instruction set as well: a call
+// left out of line runs the callee's baseline (SSE2) build.
+#if defined(__GNUC__) && !defined(__CUDACC__)
+#define CAPSIM_FLATTEN __attribute__((flatten))
+#else
+#define CAPSIM_FLATTEN
+#endif
