@@ -95,7 +95,10 @@ def rates(profile, summary, level):
     grid = summary["spectral_grid"]
     points = math.prod(grid)
     support = summary["spectral_support"]
-    touched = RULE_POINTS * triangles * 3 * support**3 * 8  # bytes, one pass
+    # The precisions `auto` took (summary.json; a run before they were recorded: double).
+    grid_precision = summary.get("spectral_precision", "double")
+    value_bytes = 4 if grid_precision == "single" else 8
+    touched = RULE_POINTS * triangles * 3 * support**3 * value_bytes  # one pass
     return {
         "real_space_gflops": profile["real_space_pairs_per_evaluation"] * FLOPS_PER_PAIR
         / per_eval["real_space"] / 1e9,
@@ -103,6 +106,8 @@ def rates(profile, summary, level):
         "spreading_gbytes_per_s": 2 * touched / per_eval["spreading"] / 1e9,
         "gathering_gbytes_per_s": touched / per_eval["gathering"] / 1e9,
         "grid": grid, "support": support, "source_points": RULE_POINTS * triangles,
+        "grid_precision": grid_precision,
+        "real_space_precision": summary.get("real_space_precision", "double"),
     }
 
 

@@ -429,9 +429,13 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   facts.ewald_xi = box().ewald.xi;
   facts.ewald_r_cut = box().ewald.r_cut;
   facts.ewald_k_cut = box().ewald.k_cut;
-  if (box().method == EwaldMethod::spectral)
+  auto precision = [](bool single) { return single ? "single" : "double"; };
+  if (box().method == EwaldMethod::spectral) {
     facts.spectral_grid.assign(box().grid.grid, box().grid.grid + 3);
+    facts.spectral_precision = precision(box().grid.single);
+  }
   facts.spectral_support = box().grid.support;
+  facts.real_space_precision = precision(box().ewald.single_real);
   double t_final = samples.empty() ? 0.0 : samples.back().time;
   write_summary_json(files_.dir() + "/summary.json", o_,
                      time_average(samples, o_.t_avg_start, t_final), facts);

@@ -56,6 +56,9 @@ void write_summary_json(const std::string& path, const RunOptions& o,
     j.field("ewald_k_cut", facts.ewald_k_cut);
     j.field("spectral_grid", facts.spectral_grid);
     j.field("spectral_support", facts.spectral_support);
+    if (!facts.spectral_precision.empty())
+      j.field("spectral_precision", facts.spectral_precision);
+    j.field("real_space_precision", facts.real_space_precision);
   }
   j.begin_object("parameters");
   for (const auto& [key, value] : flat_values(o)) {

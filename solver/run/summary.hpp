@@ -19,6 +19,8 @@ struct SummaryFacts {
   double ewald_xi = 0, ewald_r_cut = 0, ewald_k_cut = 0;
   std::vector<double> spectral_grid; // M_x, M_y, M_z; empty for the direct method
   int spectral_support = 0;          // 0 for the direct method
+  std::string spectral_precision;    // "single" or "double"; empty for the direct method
+  std::string real_space_precision;  // "single" or "double" (ewald.*precision resolved)
   std::string ended = "t_end"; // or the SimulationError kind: "contact", "numerical"
   std::string end_message;     // why it stopped early; empty for "t_end"
 };

@@ -216,6 +216,9 @@ TEST_CASE("resume: a contact stop keeps the samples before it and records \"cont
   REQUIRE(run(with(kClosePair, {"-o", dir.string()})) == 3);
   const std::string summary = text_of(dir / "summary.json");
   CHECK(summary.find("\"ended\": \"contact\"") != std::string::npos);
+  // The default tolerance, 1e-6, is summed in double; plain Ewald has no grid.
+  CHECK(summary.find("\"real_space_precision\": \"double\"") != std::string::npos);
+  CHECK(summary.find("spectral_precision") == std::string::npos);
   auto samples = read_timeseries((dir / "timeseries.h5").string());
   REQUIRE(samples.size() >= 5);
   CHECK(samples.back().time < 4.0);
@@ -223,6 +226,20 @@ TEST_CASE("resume: a contact stop keeps the samples before it and records \"cont
         std::string::npos);
   // A resume starts again from the last checkpoint (here the initial state).
   CHECK(read_checkpoint((dir / "checkpoint.h5").string()).step == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("resume: summary.json names the precision that `auto` took for each stage",
+          "[resume]") {
+  // Spectral Ewald at tolerance 1e-3 takes single precision for the grids and the
+  // real-space sum (kSinglePrecisionTolerance 1e-5).
+  fs::path dir = fresh_dir("precision");
+  REQUIRE(run({"run", "-q", "--set", "phi=0.3", "--set", "capsules=2", "--set",
+               "mesh_level=1", "--set", "t_end=0.1", "--set", "t_avg_start=0", "--set",
+               "ewald.tolerance=1e-3", "--set", "threads=1", "-o", dir.string()}) == 0);
+  const std::string summary = text_of(dir / "summary.json");
+  CHECK(summary.find("\"spectral_precision\": \"single\"") != std::string::npos);
+  CHECK(summary.find("\"real_space_precision\": \"single\"") != std::string::npos);
   fs::remove_all(dir);
 }
 
