@@ -198,11 +198,13 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
       ->check(whole_number());
   b->add_option("--precision", a.o.precision,
                 "method spectral: its grids and FFTs in double, single or auto precision "
-                "(as ewald.precision)")
+                "(as ewald.precision, whose default in a run is auto)")
+      ->capture_default_str()
       ->check(CLI::IsMember({"double", "single", "auto"}));
   b->add_option("--real-space-precision", a.o.real_space_precision,
                 "the real-space sum in double, single or auto precision (as "
-                "ewald.real_space_precision)")
+                "ewald.real_space_precision, whose default in a run is auto)")
+      ->capture_default_str()
       ->check(CLI::IsMember({"double", "single", "auto"}));
   b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")
       ->capture_default_str()

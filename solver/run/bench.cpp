@@ -147,16 +147,16 @@ std::string run_benchmark(const BenchOptions& o) {
   const long points = far_rule_points(c.mesh.topology, o.capsules);
   PeriodicBox box;
   EwaldOptions request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
-  try {
-    request.precision = parse_precision(o.precision);
-  } catch (const std::invalid_argument& e) {
-    throw ConfigError(std::string("--precision: ") + e.what());
-  }
-  try {
-    request.real_space_precision = parse_precision(o.real_space_precision);
-  } catch (const std::invalid_argument& e) {
-    throw ConfigError(std::string("--real-space-precision: ") + e.what());
-  }
+  auto precision_of = [](const std::string& value, const std::string& option) {
+    try {
+      return parse_precision(value);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(option + ": " + e.what());
+    }
+  };
+  request.precision = precision_of(o.precision, "--precision");
+  request.real_space_precision =
+      precision_of(o.real_space_precision, "--real-space-precision");
   try {
     box = make_periodic_box(c.L, request, nodes, points);
   } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
