@@ -429,7 +429,9 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   facts.ewald_xi = box().ewald.xi;
   facts.ewald_r_cut = box().ewald.r_cut;
   facts.ewald_k_cut = box().ewald.k_cut;
-  auto precision = [](bool single) { return single ? "single" : "double"; };
+  auto precision = [](bool single) {
+    return to_string(single ? Precision::single_precision : Precision::double_precision);
+  };
   if (box().method == EwaldMethod::spectral) {
     facts.spectral_grid.assign(box().grid.grid, box().grid.grid + 3);
     facts.spectral_precision = precision(box().grid.single);
