@@ -402,7 +402,7 @@ const std::vector<Param>& parameters() {
           "backend", {"cpu", "cuda"},
           [](RunOptions& o) -> std::string& { return o.backend; },
           "where the flow is evaluated: cpu (OpenMP) or cuda (one GPU; lumped load, "
-          "the spectral method, no bending or repulsion)"),
+          "the spectral method, no bending)"),
   };
   return table;
 }

@@ -20,6 +20,7 @@ struct DeviceFlow::Impl {
   NearRule rule;
   // Work arrays: positions, velocities, traction, sources.
   DeviceArray<Vec3> x, u0, q, corner_grad, y, f;
+  DeviceArray<Vec3> repulsion_grad; // the host's repulsion gradient, where it is on
   DeviceArray<double> area;
   DeviceArray<TriangleLoad> loads;
   DeviceArray<cuda::TriangleBounds> bounds;
@@ -33,8 +34,8 @@ struct DeviceFlow::Impl {
   std::unique_ptr<cuda::DeviceFft3> fft;
 
   void upload_mesh(const Membrane& membrane, int num_capsules);
-  void compute_traction(const Vec3* xd);
-  void compute_velocity(const Vec3* xd, double t, Vec3* ud);
+  void compute_traction(const Vec3* xd, const Vec3* repulsion);
+  void compute_velocity(const Vec3* xd, const Vec3* repulsion, double t, Vec3* ud);
   void add_reciprocal(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
   void add_real_space(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
 };
@@ -112,9 +113,9 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup)
 
 DeviceFlow::~DeviceFlow() = default;
 
-void DeviceFlow::Impl::compute_traction(const Vec3* xd) {
+void DeviceFlow::Impl::compute_traction(const Vec3* xd, const Vec3* repulsion) {
   cuda::element_forces(mesh, gs, wrinkling, xd, corner_grad.data(), area.data());
-  cuda::gather_nodes(mesh, corner_grad.data(), area.data(), true, q.data());
+  cuda::gather_nodes(mesh, corner_grad.data(), area.data(), repulsion, true, q.data());
 }
 
 // The same sequence as the CPU's spectral_ewald.cpp: spread, forward FFT, multiplier
@@ -164,8 +165,9 @@ void DeviceFlow::Impl::add_real_space(const ShearedLattice& g, const Vec3* xd, V
   }
 }
 
-void DeviceFlow::Impl::compute_velocity(const Vec3* xd, double t, Vec3* ud) {
-  compute_traction(xd);
+void DeviceFlow::Impl::compute_velocity(const Vec3* xd, const Vec3* repulsion, double t,
+                                        Vec3* ud) {
+  compute_traction(xd, repulsion);
   cuda::triangle_sources(mesh, xd, q.data(), loads.data(), bounds.data(), y.data(),
                          f.data());
   const int n = mesh.num_nodes(), m = int(y.size());
@@ -180,17 +182,32 @@ void DeviceFlow::Impl::compute_velocity(const Vec3* xd, double t, Vec3* ud) {
   cuda::finish_velocity(n, xd, shear_rate, ud);
 }
 
-void DeviceFlow::traction(const std::vector<Vec3>& x, double,
+// The repulsion's gradient is the CPU's own (dynamics/repulsion.hpp), computed on the
+// host: its pair search visits only the nodes near another capsule's bounding sphere,
+// a few per cent of the work of an evaluation, and the device adds it where the CPU does,
+// so both backends load the membrane with the same bits. Null where it is off.
+const Vec3* DeviceFlow::repulsion_gradient(const std::vector<Vec3>& x, double t) const {
+  if (!setup().repulsion.on() || !periodic())
+    return nullptr;
+  std::vector<Vec3> grad(x.size());
+  add_repulsion(x, t, grad);
+  impl_->repulsion_grad.upload(grad);
+  return impl_->repulsion_grad.data();
+}
+
+void DeviceFlow::traction(const std::vector<Vec3>& x, double t,
                           std::vector<Vec3>& q) const {
+  const Vec3* repulsion = repulsion_gradient(x, t);
   impl_->x.upload(x);
-  impl_->compute_traction(impl_->x.data());
+  impl_->compute_traction(impl_->x.data(), repulsion);
   impl_->q.download(q);
 }
 
 void DeviceFlow::evaluate_velocity(const std::vector<Vec3>& x, double t,
                                    std::vector<Vec3>& u) const {
+  const Vec3* repulsion = repulsion_gradient(x, t);
   impl_->x.upload(x);
-  impl_->compute_velocity(impl_->x.data(), t, impl_->u0.data());
+  impl_->compute_velocity(impl_->x.data(), repulsion, t, impl_->u0.data());
   impl_->u0.download(u);
 }
 

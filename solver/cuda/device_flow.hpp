@@ -17,14 +17,14 @@ namespace capsim {
 class DeviceFlow : public Flow {
 public:
   // The lumped load only (the consistent mass-matrix solve has no device version yet),
-  // Spectral Ewald only, no bending or repulsion; r_cut < L/3, so that the nearest image
-  // of a source is the only one within r_cut (the shortest lattice vector of the sheared
-  // box is L, and fractional wrapping finds that image); the spreading stencil within
-  // the kernels' fixed bound.
+  // Spectral Ewald only, no bending; the repulsion's gradient from the host; r_cut < L/3,
+  // so that the nearest image of a source is the only one within r_cut (the shortest
+  // lattice vector of the sheared box is L, and fractional wrapping finds that image);
+  // the spreading stencil within the kernels' fixed bound.
   static FlowCapabilities capabilities() {
     FlowCapabilities c;
-    c.consistent_load = c.bending = c.repulsion = c.direct_sums = c.single_grids =
-        c.single_real_space = false;
+    c.consistent_load = c.bending = c.direct_sums = c.single_grids = c.single_real_space =
+        false;
     c.max_cut_fraction = 1.0 / 3.0;
     c.max_spread_support = kMaxSpreadSupport;
     return c;
@@ -44,6 +44,8 @@ protected:
                          std::vector<Vec3>& u) const override;
 
 private:
+  const Vec3* repulsion_gradient(const std::vector<Vec3>& x, double t) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

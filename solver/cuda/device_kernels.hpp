@@ -5,10 +5,10 @@
 // membrane/ or stokes/; all run on the default stream, in order.
 #include "membrane/tension_field.hpp"
 #include "stokes/cells/cell_bins.hpp"
-#include "stokes/quadrature/element_integrals.hpp"
-#include "stokes/quadrature/near_corrections.hpp"
 #include "stokes/cells/sheared_lattice.hpp"
 #include "stokes/ewald/spectral_weights.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/quadrature/near_corrections.hpp"
 
 namespace capsim::cuda {
 
@@ -35,10 +35,11 @@ struct TriangleBounds {
 // the neo-Hookean energy, or its relaxation with wrinkling (membrane_element).
 void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3* x,
                     Vec3* corner_grad, double* area);
-// Per node: the sum of its corners' gradients; divided by the lumped node area (a third
-// of the adjacent triangles' areas) when lumped_load, which gives the traction q.
+// Per node: the sum of its corners' gradients, plus extra[i] where extra is not null (the
+// repulsion's gradient); divided by the lumped node area (a third of the adjacent
+// triangles' areas) when lumped_load, which gives the traction q.
 void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
-                  bool lumped_load, Vec3* out);
+                  const Vec3* extra, bool lumped_load, Vec3* out);
 // Per triangle: its corners and loads, its bounds, and its 3-point rule as point sources
 // (y[3 e + g], f[3 e + g] = w_g A q(y_g)).
 void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,

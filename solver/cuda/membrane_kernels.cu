@@ -27,7 +27,8 @@ __global__ void element_forces_kernel(MeshView mesh, double gs, bool wrinkling,
 // A gather over each node's corners instead of atomics: the sum runs in a fixed order,
 // so results are reproducible and match the CPU assembly to rounding.
 __global__ void gather_nodes_kernel(MeshView mesh, const Vec3* corner_grad,
-                                    const double* area, bool lumped_load, Vec3* out) {
+                                    const double* area, const Vec3* extra,
+                                    bool lumped_load, Vec3* out) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= mesh.num_nodes())
     return;
@@ -40,6 +41,8 @@ __global__ void gather_nodes_kernel(MeshView mesh, const Vec3* corner_grad,
     g += corner_grad[3 * e + k];
     node_area += area[e] / 3.0;
   }
+  if (extra) // after the element sum, as the CPU adds the repulsion to its gradient
+    g += extra[i];
   out[i] = lumped_load ? (1.0 / node_area) * g : g;
 }
 
@@ -85,9 +88,9 @@ void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3*
 }
 
 void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
-                  bool lumped_load, Vec3* out) {
+                  const Vec3* extra, bool lumped_load, Vec3* out) {
   CAPSIM_LAUNCH(gather_nodes_kernel, blocks_for(mesh.num_nodes()), kBlock)
-  (mesh, corner_grad, area, lumped_load, out);
+  (mesh, corner_grad, area, extra, lumped_load, out);
   check_launch("gather_nodes");
 }
 

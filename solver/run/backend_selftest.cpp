@@ -62,14 +62,26 @@ struct Report {
 };
 
 // The reference (CPU) and candidate flows of one case, compared on evaluations and steps.
+// repulsion: between the capsules (off by default); a case with it on must have nodes
+// within its range, or it tests nothing.
 void compare_case(Report& r, const std::string& name, const Membrane& membrane,
                   int capsules, const PeriodicBox& box, Backend backend,
-                  const std::vector<Vec3>& x0, double dt, int steps) {
+                  const std::vector<Vec3>& x0, double dt, int steps,
+                  RepulsionOptions repulsion = {}) {
   FlowSetup setup{membrane, capsules};
   setup.box = box;
+  setup.repulsion = repulsion;
   const std::unique_ptr<Flow> cpu = make_flow(Backend::cpu, setup);
   const std::unique_ptr<Flow> other = make_flow(backend, setup);
   std::vector<Vec3> a, b;
+  if (repulsion.on()) {
+    std::vector<Vec3> grad(x0.size());
+    const std::vector<int> repelled = cpu->add_repulsion(x0, 0.0, grad);
+    int count = 0;
+    for (int n : repelled)
+      count += n;
+    r.line(name + ": no node within the repulsion's range", count == 0, 0);
+  }
   cpu->traction(x0, 0.0, a);
   other->traction(x0, 0.0, b);
   r.line(name + ": membrane traction", max_relative_difference(b, a), 1e-12);
@@ -115,6 +127,13 @@ bool run_backend_selftest(Backend backend, std::ostream& out) {
   for (const Vec3& p : deformed_capsule(mesh, {3.0, 2.5, 2.2}, 1.1))
     x.push_back(p);
   compare_case(r, "periodic (spectral), 2 capsules", membrane, 2, box, backend, x, dt, 3);
+  // The second capsule just above the first: their poles 0.05 apart, within the range of
+  // the dense suspensions' repulsion (0.1), at F0 = 5.
+  std::vector<Vec3> close = deformed_capsule(mesh, {1.0, 1.0, 1.0}, 1.2);
+  for (const Vec3& p : deformed_capsule(mesh, {1.0, 1.0, 3.05}, 1.1))
+    close.push_back(p);
+  compare_case(r, "periodic (spectral), 2 capsules, repulsion", membrane, 2, box, backend,
+               close, dt, 3, RepulsionOptions{0.1, 5.0});
   out << "capsim selftest: " << (r.passed ? "passed" : "FAILED") << "\n";
   return r.passed;
 }

@@ -21,7 +21,7 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
       << membrane.bending_modulus() / membrane.shear_modulus();
   else if (s.repulsion.on() && !caps.repulsion)
     m << "suspension.repulsion_force: must be 0" << with
-      << " (the repulsion runs on the CPU only), got " << s.repulsion.force;
+      << " (this backend has no repulsion), got " << s.repulsion.force;
   else if (s.box.L > 0 && s.box.method != EwaldMethod::spectral && !caps.direct_sums)
     m << "method: must be spectral" << with << ", got '" << to_string(s.box.method)
       << "'";

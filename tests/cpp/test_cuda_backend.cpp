@@ -126,7 +126,6 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
       {{bent}, "membrane.bending: must be 0 with backend: cuda"},
       {consistent, "membrane.load: must be lumped with backend: cuda"},
       {direct, "method: must be spectral with backend: cuda"},
-      {repelled, "suspension.repulsion_force: must be 0 with backend: cuda"},
       {wide, "ewald.xi: the real-space cut-off"},
       {single, "ewald.precision: must be double with backend: cuda"},
       {single_real, "ewald.real_space_precision: must be double with backend: cuda"}};
@@ -136,6 +135,14 @@ TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, w
   }
   CHECK(unsupported_by({plain}, device, Backend::cuda).empty());
   CHECK(unsupported_by(spectral, device, Backend::cuda).empty());
+  // The repulsion runs on the device (its gradient from the host); a backend that lacked
+  // it would be told so by the same check.
+  CHECK(unsupported_by(repelled, device, Backend::cuda).empty());
+  FlowCapabilities no_repulsion = device;
+  no_repulsion.repulsion = false;
+  CHECK_THAT(
+      unsupported_by(repelled, no_repulsion, Backend::cuda),
+      Catch::StartsWith("suspension.repulsion_force: must be 0 with backend: cuda"));
   // The relaxed membrane runs on the device: its kernel calls the same element function.
   const Membrane wrinkling(mesh.topology, mesh.positions.data(), 1.0, 0, true);
   CHECK(unsupported_by({wrinkling}, device, Backend::cuda).empty());
@@ -147,5 +154,6 @@ TEST_CASE("selftest: the cpu backend agrees with itself", "[cuda]") {
   INFO(out.str());
   CHECK_THAT(out.str(), Catch::Contains("periodic (spectral), 2 capsules: velocity") &&
                             Catch::Contains("wrinkling membrane: membrane traction") &&
+                            Catch::Contains("2 capsules, repulsion: velocity") &&
                             Catch::Contains("capsim selftest: passed"));
 }

@@ -1,8 +1,9 @@
 """A short suspension run on the CUDA backend's device code, executed on the CPU by the
 host-emulation build (build-emulate/, made by scripts/test.sh), against the same run on
-the CPU backend, with the paper's membrane and with the wrinkling one: the time series and
-the summaries agree to 1e-12 relative (measured: 2e-15 to 8e-15; the device sums in
-another order: atomics in spreading, the FFT layout)."""
+the CPU backend, with the paper's membrane, with the wrinkling one and dense (phi 0.4)
+with the repulsion between capsules: the time series and the summaries agree to 1e-12
+relative (measured: 2e-15 to 1.4e-14; the device sums in another order: atomics in
+spreading, the FFT layout)."""
 
 import json
 import subprocess
@@ -24,8 +25,15 @@ CASE = ["--set", "mesh_level=1", "--set", "ca=0.3", "--set", "phi=0.1",
         "--set", "ewald.xi=3.5"]
 
 
-@pytest.fixture(scope="module", params=[[], ["--set", "membrane.wrinkling=true"]],
-                ids=["paper", "wrinkling"])
+# The dense case: phi 0.4, where the four capsules' nodes come within the repulsion's
+# range (0.2 at this coarse mesh) from the first step; xi 6.5 keeps r_cut below L/5 of the
+# smaller box.
+DENSE = ["--set", "phi=0.4", "--set", "ewald.xi=6.5", "--set", "suspension.repulsion_force=5",
+         "--set", "suspension.repulsion_range=0.2"]
+
+
+@pytest.fixture(scope="module", params=[[], ["--set", "membrane.wrinkling=true"], DENSE],
+                ids=["paper", "wrinkling", "dense-repulsion"])
 def runs(tmp_path_factory, request):
     for binary in (CAPSIM, EMULATED):
         if not binary.exists():
@@ -41,6 +49,7 @@ def runs(tmp_path_factory, request):
 def test_the_time_series_agree(runs):
     cpu, cuda = (read_timeseries(r) for r in runs)
     assert np.array_equal(cpu["time"], cuda["time"])
+    assert np.array_equal(cpu["repelled_nodes"], cuda["repelled_nodes"])
     for name in ("D", "stresslet", "centroid", "min_tension"):
         scale = np.abs(cpu[name]).max()
         assert np.abs(cuda[name] - cpu[name]).max() <= 1e-12 * scale, name
@@ -51,3 +60,9 @@ def test_the_summaries_agree(runs):
     assert cuda["parameters"]["backend"] == "cuda" and cpu["parameters"]["backend"] == "cpu"
     for key in ("taylor_D", "theta_D_deg", "mu_sp", "N1", "N2", "energy_mean"):
         assert cuda[key] == pytest.approx(cpu[key], rel=1e-12, abs=1e-14), key
+
+
+def test_the_dense_case_is_repelled(runs, request):
+    """The dense case tests the repulsion only if nodes come within its range."""
+    cpu = read_timeseries(runs[0])
+    assert (cpu["repelled_nodes"].sum() > 0) == (request.node.callspec.id == "dense-repulsion")
