@@ -29,8 +29,8 @@ COLUMNS = (PARAMETERS + ("t_start", "t_end", "count", "D", "D_std", "D_se", "D_s
                          "mu_sp", "mu_sp_se", "N1", "N1_se", "N2", "N2_se", "S12", "S12_se",
                          "S12_principal", "S12_principal_se", "S11_S22", "S11_S22_se",
                          "S11_S22_principal", "S11_S22_principal_se", "sin2theta_S",
-                         "sin2theta_S_se", "cos2theta_S", "cos2theta_S_se", "intrinsic",
-                         "membrane", "ended", "run"))
+                         "sin2theta_S_se", "cos2theta_S", "cos2theta_S_se",
+                         "volume_error_max", "intrinsic", "membrane", "ended", "run"))
 
 
 def rheology_standard_errors(avg, phi, ca):
@@ -68,6 +68,8 @@ def run_row(run_dir, t_start=None, t_end=None):
     row["S12_se"] = float(avg["stresslet_se"][0, 1])
     row["S11_S22_se"] = float(avg["normal_differences_se"][0])
     row.update({f"{name}_se": float(se) for name, se in avg["decomposition_se"].items()})
+    # The largest relative volume error of the stored states (the paper's section 3 bound).
+    row["volume_error_max"] = float(summary.get("volume_error_max", float("nan")))
     row["intrinsic"] = int(phi == 0)
     # The membrane the run carried (analysis.membrane: "paper", "wrinkling", "eb0.05"):
     # the figures' footers say which points carry which.

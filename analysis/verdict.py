@@ -1,15 +1,15 @@
-"""The rule by which a number of ours is set against an expected one, and the tables it is
-read from: shared by the figure-data check (analysis.check) and the paper comparison
-(analysis.paper_comparison).
+"""The rule by which the figure-data check (analysis.check) sets a number of ours against
+an expected one (an analytic limit, a reference run), and the tables that the check and
+the paper comparison (analysis.paper_comparison, with its own rule for the paper's
+claims) read.
 
 A value agrees with the expected one when their difference lies within the band
 max(tolerance, k se), with se = sqrt(se_ours^2 + se_expected^2) the standard error of the
 difference of two independent estimates: the tolerance budgets what the standard errors do
-not hold (systematic differences of mesh and box, the rounding of a stated number), k se
+not hold (systematic differences of mesh and box between a run and its reference), k se
 the statistics. A bound (at most, at least) holds when ours lies on its side within k of
-its own standard errors. Each check says its k: the paper comparison 2 (a 95 % band for one
-number read on its own), the figure-data check 3 (a dozen checks at once should not fail on
-noise, analysis.check).
+its own standard errors. Each expectation file says its k (3: a dozen checks at once
+should not fail on noise, analysis.check).
 """
 
 from pathlib import Path

@@ -124,14 +124,16 @@ def footer(rows, t_start=None):
 
 
 def save(fig, out, rows, caption):
-    """Write OUT.png, OUT.pdf with `caption` under the axes, and the plotted data OUT.csv
-    (a DataFrame or dict rows; the columns in the order they first appear)."""
+    """Write OUT.png, OUT.pdf with `caption` under the axes, the plotted data OUT.csv
+    (a DataFrame or dict rows; the columns in the order they first appear) and the caption
+    as text, OUT.txt (the results page prints it under the figure)."""
     fig.text(0.01, -0.02, caption, ha="left", va="top", fontsize=7, wrap=True)
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out.with_suffix(".png"))
     fig.savefig(out.with_suffix(".pdf"))
     write_table(out.with_suffix(".csv"), rows)
+    out.with_suffix(".txt").write_text(caption + "\n", encoding="utf-8")
 
 
 def grid_rows(path):

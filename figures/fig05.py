@@ -1,6 +1,7 @@
 """Figure 5: (a) specific viscosity mu_sp against phi for each Ca, with a1 phi + a2 phi^2
 (grey dotted) and the Krieger-Dougherty curve of rigid spheres (eq. 4.7, black);
-(b) the coefficients a1 (dilute limit) and a2 (least squares over 0 <= phi <= 0.10) of
+(b) the coefficients a1 (dilute limit) and a2 (least squares over 0 < phi <= phi_max, the
+coefficient table's fitting range, 0.10 as the paper's) of
 eq. 4.6 against Ca, with the rigid-sphere values of eq. 4.8. Bars: standard errors of the
 time averages, and of a1, a2 propagated from them.
 
@@ -19,8 +20,7 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     col = common.colors(coef)
     fig, (ax_a, ax_b) = common.plt.subplots(1, 2, figsize=(7.0, 3.0))
     data = []
-    phi_max = max(runs["phi"].max() for runs in susp.values())
-    smooth = np.linspace(0, phi_max, 60)
+    smooth = np.linspace(0, max(runs["phi"].max() for runs in susp.values()), 60)
     for ca, (c1, c2) in sorted(coef.items()):
         phi, y = common.phi_with_dilute(dilute[ca], susp[ca], key, dilute_value=0.0)
         _, se = common.phi_with_dilute(dilute[ca], susp[ca], key + "_se", dilute_value=0.0)
@@ -49,7 +49,8 @@ def polynomial_figure(args, key, c_names, ylabel, number, rigid):
     ax_b.legend()
     caption = (f"Figure {number}. (a) {ylabel} against phi; grey dotted: "
                f"{c_names[0]} phi + {c_names[1]} phi^2. (b) {c_names[0]} from the dilute limit, "
-               f"{c_names[1]} by least squares over 0 <= phi <= {phi_max:g}. "
+               f"{c_names[1]} by least squares of (y - {c_names[0]} phi) = {c_names[1]} phi^2 "
+               f"over 0 < phi <= {phi_max:g}. "
                + common.ERROR_BARS + f"; those of {c_names[0]}, {c_names[1]} propagated "
                "from them. " + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)

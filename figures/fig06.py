@@ -65,7 +65,7 @@ def share_figure(args, key, names, number, rigid):
     ax_b.set(xlabel=r"$\phi$", ylabel=names[1], title="(b)", ylim=(0, 1.1))
     ax_a.legend()
     caption = (f"Figure {number}. Ratios {names[0]} and {names[1]}; the O(phi^3) share is "
-               f"1 - (b). Fitting range 0 <= phi <= {phi_max:g}. "
+               f"1 - (b). The second coefficient fitted over 0 < phi <= {phi_max:g}. "
                "Bars: standard errors propagated from those of the time averages (the "
                "values and the coefficients; from the integrated autocorrelation time, "
                "docs/conventions.md); 1 - (b) has the error of (b). "

@@ -1,6 +1,6 @@
 """Figure 7: normal stress differences: (a) N1 and (b) N2 (over mu gammadot) against Ca for
 each phi; (c) N1 against phi for each Ca with b1 phi + b2 phi^2; (d) the coefficients b1
-(dilute limit) and b2 (least squares over 0 <= phi <= 0.10) of eq. 4.11 against Ca. Bars:
+(dilute limit) and b2 (least squares over 0 < phi <= phi_max) of eq. 4.11 against Ca. Bars:
 standard errors of the time averages, and of b1, b2 propagated from them.
 
 Usage: python figures/fig07.py --out results/figures/fig07 results/grid/table.csv
@@ -47,7 +47,7 @@ def main(args):
         ax.legend()
     fig.tight_layout()
     caption = ("Figure 7. Normal stress differences; grey dotted in (c): b1 phi + b2 phi^2, "
-               f"b2 fitted over 0 <= phi <= {phi_max:g}. " + common.ERROR_BARS
+               f"b2 fitted over 0 < phi <= {phi_max:g}. " + common.ERROR_BARS
                + "; those of b1, b2 propagated from them. "
                + common.footer(rows, args.t_start))
     common.save(fig, args.out, data, caption)

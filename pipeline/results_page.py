@@ -1,28 +1,36 @@
 """The results page of a configuration (docs/results.md): what it computed and where its
-runs are kept, the paper's numbers against ours with a verdict for each, Table 1 and a
-small set of its figures, all from the workflow's outputs under results/ (the comparison
-of analysis.paper_comparison, the figures of figures/). The page is written where the
-docs are, with the figures' PNGs beside it, so that it can be committed as the project's
-published results.
+runs are kept, a headline with the verdicts counted by class of claim, the largest
+disagreements, every claim of the paper against ours (analysis.paper_comparison), Table 1,
+figures 3-12 with the captions their scripts write, the averaging windows of the runs,
+and the list of the paper's statements with how each is counted. All from the workflow's
+outputs under results/; the page is written where the docs are, with the figures' PNGs
+beside it (reduced: half the pixels, 256 colours), so that it can be committed as the
+project's published results.
 
 Usage: python -m pipeline.results_page --results results --out docs/results.md
        --label config/quantitative.yaml [--archive archive/quantitative]
-       [--figures fig03 fig05 ...]
+       [--numbers config/paper_numbers.yaml] [--figures fig03 fig04 ...]
 """
 
 import argparse
 import datetime
-import shutil
 import sys
 from pathlib import Path
 
+import pandas as pd
+import yaml
+from PIL import Image
+
+from analysis import paper_comparison
+from analysis.tables import markdown_table
 from pipeline import archive
 from pipeline.run_spec import ROOT, physics_version
 
-# The figures a reader of the paper looks for first: deformation and viscosity against
-# phi (3, 5), the normal stress differences (7), the stresslet relations (9), the initial
-# positions and the box size (11, 12).
-FIGURES = ["fig03", "fig05", "fig07", "fig09", "fig11", "fig12"]
+FIGURES = [f"fig{n:02d}" for n in range(3, 13)]  # the paper's results, figures 3-12
+LARGEST = 5  # disagreements shown first
+REDUCE = 2  # the committed PNGs keep 1 / REDUCE of the pixels in each direction
+CLASS_NAMES = {"number": "numbers", "trend": "trends", "other-paper": "other papers",
+               "analytic": "analytic"}
 
 
 def archive_line(store):
@@ -36,32 +44,134 @@ def archive_line(store):
             f"{s['cpu_seconds'] / 3600:.1f} CPU hours, solver physics version {versions}.")
 
 
-def page(results, label, figures, figure_dir, store=None, date=None):
-    """The page's Markdown; copies the figures' PNGs into `figure_dir`."""
-    results, figure_dir = Path(results), Path(figure_dir)
-    date = date or datetime.date.today().isoformat()
-    lines = ["# Results", "",
-             f"The paper's numbers against those of `{label}`, generated on {date} by "
-             "`pipeline/results_page.py` from the workflow's outputs (`docs/workflow.md`).",
-             ""]
-    if store:
-        lines += [archive_line(store), ""]
-    lines += ["## The paper's numbers against ours", "",
-              "Where a number differs, its reason says what differs between the paper's "
-              "runs and ours and what was measured to be, or not to be, the cause "
-              "(`config/paper_numbers.yaml`; the measurements: `docs/suspensions.md`, "
-              "`docs/dilute_limit.md`).", "",
-              (results / "figures" / "paper_comparison.md").read_text().strip(), "",
-              "## Table 1", "", (results / "figures" / "table1.md").read_text().strip(),
-              "", "## Figures", ""]
-    figure_dir.mkdir(parents=True, exist_ok=True)
+def headline(table):
+    """One line per class of claim: its verdicts counted."""
+    counts = paper_comparison.verdict_counts(table)
+    lines = []
+    for cls, name in CLASS_NAMES.items():
+        n = sum(counts[cls].values())
+        if n:
+            words = ", ".join(f"{counts[cls][w]} {w}" for w in paper_comparison.VERDICTS
+                              if counts[cls].get(w))
+            lines.append(f"- {name}: {words} (of {n})")
+    return lines
+
+
+def largest_disagreements(table, n=LARGEST):
+    """The paper's claims that differ (numbers and trends; other papers' have their own
+    class), the farthest in combined standard errors first."""
+    differ = table[(table["this_verdict"] == paper_comparison.DIFFERS)
+                   & table["class"].isin(["number", "trend"])]
+    differ = differ.assign(off=differ["this_z"].abs()).sort_values("off", ascending=False)
+    cells = differ.head(n)[["quantity", "paper", "this_run", "off", "this_reason"]]
+    cells = cells.assign(off=cells["off"].map(lambda z: f"{z:.1f}"),
+                         this_reason=cells["this_reason"].map(lambda r: r.split("; ")[0]))
+    return markdown_table(cells.map(lambda v: str(v).replace("|", "/")),
+                          headers=["claim", "paper", "ours", "off by (combined SE)",
+                                   "how"])
+
+
+def windows(results):
+    """The averaging windows of the runs of each study table (the grid's dilute runs
+    apart), one line each, naming the runs that stopped early."""
+    lines = []
+    for study in ("grid", "mesh", "boxsize"):  # figure 11 states the initial runs' own
+        path = results / study / "table.csv"
+        if not path.exists():
+            continue
+        table = pd.read_csv(path)
+        parts = [("dilute limit", table[table["intrinsic"] == 1]),
+                 ("suspensions", table[table["intrinsic"] == 0])] \
+            if study == "grid" and "intrinsic" in table else [("", table)]
+        for what, t in parts:
+            spans = sorted({f"[{a:g}, {b:.3g}]" for a, b in zip(t["t_start"], t["t_end"])
+                            if pd.notna(a) and pd.notna(b)})
+            early = t[t["ended"].fillna("t_end") != "t_end"] if "ended" in t else t.iloc[:0]
+            stops = "; ".join(f"Ca {r.ca:g} phi {r.phi:g} level {int(r.mesh_level)} "
+                              f"seed {int(r.seed)} {r.ended} at {r.t_end:.3g}"
+                              for r in early.itertuples())
+            lines.append(f"- {study}{' (' + what + ')' if what else ''}: gammadot t in "
+                         + ", ".join(spans) + (f" (stopped early: {stops})" if stops else ""))
+    return lines
+
+
+def claims_list(numbers):
+    """Every claim with its class, test and the paper's words, then the statements not
+    compared and why."""
+    claims = paper_comparison.load_numbers(numbers)
+    cells = pd.DataFrame([{"id": c["id"], "class": c["class"], "test": c["test"],
+                           "stated": c["stated"], "quote": c["quote"]} for c in claims])
+    lines = [markdown_table(cells.map(lambda v: str(v).replace("|", "/")),
+                            headers=["claim", "class", "test", "where", "the paper's words"])]
+    data = yaml.safe_load(Path(numbers).read_text(encoding="utf-8"))
+    skipped = pd.DataFrame(data.get("not_compared", []), columns=["stated", "quote", "why"])
+    if not skipped.empty:
+        lines += ["", "Statements not compared, and why:", "",
+                  markdown_table(skipped.map(lambda v: str(v).replace("|", "/")),
+                                 headers=["where", "the paper's words", "why"])]
+    return lines
+
+
+def copy_reduced(png, target):
+    """The figure's PNG at 1 / REDUCE of its pixels in each direction and 256 colours."""
+    with Image.open(png) as image:
+        small = image.convert("RGB").resize((max(1, image.width // REDUCE),
+                                             max(1, image.height // REDUCE)),
+                                            Image.LANCZOS)
+        small.quantize(256).save(target, optimize=True)
+
+
+def figure_lines(results, figures, figure_dir):
+    lines = []
     for name in figures:
         png, number = results / "figures" / f"{name}.png", name[3:].lstrip("0")
         if not png.exists():
             lines += [f"Figure {number}: not in this configuration.", ""]
             continue
-        shutil.copyfile(png, figure_dir / png.name)
+        copy_reduced(png, figure_dir / png.name)
+        caption = png.with_suffix(".txt")
         lines += [f"![Figure {number}]({figure_dir.name}/{png.name})", ""]
+        if caption.exists():
+            lines += [caption.read_text(encoding="utf-8").strip(), ""]
+    return lines
+
+
+def page(results, label, figures, figure_dir, store=None, date=None, numbers=None):
+    """The page's Markdown; copies the figures' PNGs (reduced) into `figure_dir`."""
+    results, figure_dir = Path(results), Path(figure_dir)
+    numbers = Path(numbers or ROOT / "config" / "paper_numbers.yaml")
+    date = date or datetime.date.today().isoformat()
+    table = pd.read_csv(results / "figures" / "paper_comparison.csv")
+    lines = ["# Results", "",
+             f"Every checkable statement of the paper against `{label}`, generated on "
+             f"{date} by `pipeline/results_page.py` from the workflow's outputs "
+             "(`snakemake --cores 2 results_page`, `docs/workflow.md`).", ""]
+    if store:
+        lines += [archive_line(store), ""]
+    lines += ["## Headline", "",
+              "The paper's claims, counted apart by what they are: its numbers (values, "
+              "ranges, bounds), its trends over Ca and phi (each one claim over every "
+              "point it covers), other papers' numbers and the paper's own arithmetic "
+              "(`config/paper_numbers.yaml`; the list below).", ""]
+    lines += headline(table) + [""]
+    lines += [f"## The {LARGEST} largest disagreements", "",
+              "The paper's numbers and trends that differ, the farthest in combined "
+              "standard errors first (a trend's: its worst step, or its linearity test "
+              "as standard deviations).", "",
+              largest_disagreements(table), "",
+              "## Every claim against ours", "",
+              "Where a claim differs, its reason says what differs between the paper's "
+              "runs and ours and what was measured to be, or not to be, the cause "
+              "(`docs/suspensions.md`, `docs/dilute_limit.md`).", "",
+              (results / "figures" / "paper_comparison.md").read_text().strip(), "",
+              "## Table 1", "", (results / "figures" / "table1.md").read_text().strip(),
+              "", "## Averaging windows", ""] + windows(results) + [
+              "", "## Figures", "",
+              f"Reduced to 1/{REDUCE} of their pixels in each direction; full size in "
+              "`results/figures/`.", ""]
+    figure_dir.mkdir(parents=True, exist_ok=True)
+    lines += figure_lines(results, figures, figure_dir)
+    lines += ["## The claims and how they are counted", ""] + claims_list(numbers)
     return "\n".join(lines)
 
 
@@ -72,12 +182,13 @@ def main(argv=None):
                     "named after it: docs/results.md -> docs/results/)")
     ap.add_argument("--label", required=True, help="the configuration, as the page names it")
     ap.add_argument("--archive", help="the results archive the runs came from")
+    ap.add_argument("--numbers", help="the claims file (default config/paper_numbers.yaml)")
     ap.add_argument("--figures", nargs="+", default=FIGURES, help="figures to show")
     args = ap.parse_args(argv)
     out = Path(args.out)
     try:
         text = page(args.results, args.label, args.figures, out.with_suffix(""),
-                    args.archive)
+                    args.archive, numbers=args.numbers)
     except (FileNotFoundError, archive.ArchiveError) as e:
         print(f"results_page: error: {e}", file=sys.stderr)
         return 2

@@ -1,14 +1,18 @@
 """analysis.check on synthetic CSVs: a correct expectation passes, a deliberately
-corrupted one fails with a readable message, a malformed file is refused."""
+corrupted one fails with a readable message, a malformed file is refused; the paper
+comparison's datum table against the committed one, where a perturbed datum or verdict
+fails the check."""
 
 import subprocess
 import sys
 from pathlib import Path
 
+import pandas as pd
 import pytest
 import yaml
 
 from analysis import check
+from analysis import paper_comparison as pc
 from analysis.tables import write_table
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,8 +28,8 @@ def results(tmp_path):
 
 def expectation(**change):
     e = {"id": "mu-1280", "file": "figures/table1.csv", "where": {"N_E": 1280},
-         "column": "mu_sp", "value": 0.81762, "rel_tol": 0.01, "source": "paper",
-         "provenance": "Table 1, N_E = 5120 average"}
+         "column": "mu_sp", "value": 0.81762, "rel_tol": 0.01, "source": "reference-run",
+         "provenance": "Table 1 point of a reference run, N_E = 5120 average"}
     e.update(change)
     return e
 
@@ -68,6 +72,10 @@ def test_expectation_without_provenance_is_refused(results, tmp_path):
         check.run_checks([f], results)
     f = write_expected(tmp_path / "e.yaml", expectation(source="same-run"))
     with pytest.raises(check.ExpectationError, match="source must be one of"):
+        check.run_checks([f], results)
+    # The paper's numbers are claims of the paper comparison, not expectations.
+    f = write_expected(tmp_path / "e.yaml", expectation(source="paper"))
+    with pytest.raises(check.ExpectationError, match="config/paper_numbers.yaml"):
         check.run_checks([f], results)
 
 
@@ -128,3 +136,105 @@ def test_a_missing_standard_error_fails(grid_results, tmp_path):
     failed, lines = run_grid(tmp_path, grid_results, value=0.8, rel_tol=0.01,
                              se_column="N1_se")
     assert failed == 1 and "standard-error column 'N1_se'" in lines[0]
+
+
+# ---------------------------------------------------------------- the paper comparison
+
+
+def comparison_results(folder, d_at_phi03=0.26):
+    """A results folder for the repository's claims: a small grid at Ca 0.1."""
+    rows = [{"ca": 0.1, "phi": phi, "capsules": 1 if phi == 0 else 8, "seed": 1,
+             "mesh_level": 2, "t_start": 6.0, "t_end": 12.0, "count": 100, "D": d,
+             "D_se": 0.002, "theta_D_deg": 34.0 - 10 * phi, "theta_D_se_deg": 0.1,
+             "intrinsic": int(phi == 0), "membrane": "paper", "ended": "t_end"}
+            for phi, d in ((0.0, 0.20), (0.1, 0.22), (0.2, 0.24), (0.3, d_at_phi03))]
+    write_table(folder / "grid" / "table.csv", rows)
+    return folder
+
+
+def regenerate(results, stem):
+    claims = pc.load_numbers(ROOT / "config" / "paper_numbers.yaml")
+    _, data = pc.comparison_tables(claims, pc.Results(results))
+    write_table(stem, data)
+    return stem
+
+
+def test_the_regenerated_comparison_passes_as_committed(tmp_path):
+    results = comparison_results(tmp_path / "results")
+    committed = regenerate(results, tmp_path / "committed.csv")
+    failed, lines = check.check_comparison(regenerate(results, tmp_path / "new.csv"),
+                                           committed)
+    assert failed == 0, lines
+    assert lines[-1].startswith("ok   comparison:")
+
+
+def test_a_perturbed_datum_or_verdict_fails_the_check(tmp_path):
+    results = comparison_results(tmp_path / "results")
+    committed = regenerate(results, tmp_path / "committed.csv")
+    # One figure datum changed (<D> at phi 0.3 by 1e-6, far below any standard error):
+    # the verdicts stay, the check fails on the values the datum enters.
+    comparison_results(results, d_at_phi03=0.260001)
+    failed, lines = check.check_comparison(regenerate(results, tmp_path / "new.csv"),
+                                           committed)
+    assert failed > 0
+    assert any(line.startswith("FAIL comparison rise-D-ca0.1-phi0.3") and "value" in line
+               for line in lines), lines
+    # A change of agreement: the same data, one verdict edited in the committed table.
+    table = pd.read_csv(committed)
+    i = table.index[table["id"] == "D-rises-with-phi"][0]
+    table.loc[i, "claim_verdict"] = "differs"
+    table.to_csv(tmp_path / "edited.csv", index=False)
+    comparison_results(results)
+    failed, lines = check.check_comparison(regenerate(results, tmp_path / "new.csv"),
+                                           tmp_path / "edited.csv")
+    assert failed == 1 and "claim_verdict 'agrees', committed 'differs'" in lines[0]
+
+
+def test_round_off_passes_and_a_missing_datum_fails(tmp_path):
+    table = pd.DataFrame([{"id": "a", "datum": "Ca 0.1", "value": 0.3, "se": 0.01,
+                           "datum_verdict": "agrees", "claim_verdict": "agrees"},
+                          {"id": "b", "datum": "", "value": 1.0, "se": 0.0,
+                           "datum_verdict": "agrees", "claim_verdict": "agrees"}])
+    table.to_csv(tmp_path / "old.csv", index=False)
+    table.assign(value=table["value"] * (1 + 1e-12)).to_csv(tmp_path / "new.csv",
+                                                             index=False)
+    assert check.check_comparison(tmp_path / "new.csv", tmp_path / "old.csv")[0] == 0
+    table.iloc[:1].to_csv(tmp_path / "new.csv", index=False)
+    failed, lines = check.check_comparison(tmp_path / "new.csv", tmp_path / "old.csv")
+    assert failed == 1 and "not regenerated" in lines[0]
+
+
+def test_check_main_holds_the_committed_folder(tmp_path):
+    results = comparison_results(tmp_path / "results")
+    committed = tmp_path / "committed"
+    committed.mkdir()
+    regenerate(results, committed / check.COMPARISON)
+    regenerate(results, results / "figures" / check.COMPARISON)
+    write_table(committed / "fig03.csv", [{"ca": 0.1, "phi": 0.3, "D": 0.26, "series": None}])
+    write_table(results / "figures" / "fig03.csv",
+                [{"ca": 0.1, "phi": 0.3, "D": 0.26, "series": None}])
+    assert check.main(["--results", str(results), "--committed", str(committed)]) == 0
+    # One figure datum perturbed: the figure data and the comparison resting on it fail.
+    comparison_results(results, d_at_phi03=0.30)
+    regenerate(results, results / "figures" / check.COMPARISON)
+    write_table(results / "figures" / "fig03.csv",
+                [{"ca": 0.1, "phi": 0.3, "D": 0.30, "series": None}])
+    report = tmp_path / "report.md"
+    assert check.main(["--results", str(results), "--report", str(report),
+                       "--committed", str(committed)]) == 1
+    text = report.read_text()
+    assert "FAIL figure data fig03.csv: 1 cells differ: row 0 D 0.3, committed 0.26" in text
+    assert "the paper comparison differs as committed" in text
+
+
+def test_committed_figure_data_are_those_the_configurations_name():
+    claims = {c["id"] for c in pc.load_numbers(ROOT / "config" / "paper_numbers.yaml")}
+    for name in ("ci", "quantitative"):
+        config = yaml.safe_load((ROOT / "config" / f"{name}.yaml").read_text())
+        folder = ROOT / config["check"]["committed"]
+        table = pd.read_csv(folder / check.COMPARISON)
+        assert list(table.columns) == ["id", "datum", "value", "se", "datum_verdict",
+                                       "claim_verdict"]
+        assert set(table["id"]) <= claims, folder
+        names = {p.name for p in folder.glob("*.csv")}
+        assert {"table1.csv"} | {f"fig{n:02d}.csv" for n in range(1, 13)} <= names

@@ -1,23 +1,66 @@
-"""The results page (pipeline/results_page.py) from a results folder: the comparison,
-Table 1 and the chosen figures, copied beside the page; the archive it names."""
+"""The results page (pipeline/results_page.py) from a results folder: the headline counted
+by class, the largest disagreements first, the comparison, Table 1, the averaging
+windows, the figures (reduced, copied beside the page) with their captions, the list of
+claims; the archive it names."""
 
+import pandas as pd
+from PIL import Image
+
+from analysis import paper_comparison as pc
+from analysis.tables import write_table
 from pipeline import results_page
 from pipeline.run_spec import ROOT
 
 
-def test_page_holds_the_comparison_table1_and_the_figures(tmp_path):
+def comparison(rows):
+    base = {"quantity": "q", "quote": "w", "stated": "s", "test": "value", "paper": "1",
+            "this_run": "1.1 +- 0.01", "this_reason": "off by +0.1; N_E 1280", "this_z": 0.0}
+    return pd.DataFrame([base | r for r in rows])
+
+
+def test_page_holds_headline_disagreements_comparison_table1_and_figures(tmp_path):
     figures = tmp_path / "results" / "figures"
     figures.mkdir(parents=True)
-    (figures / "paper_comparison.md").write_text("| quantity |\n|---|\n| <D> |\n")
+    table = comparison([
+        {"id": "a", "class": "number", "this_verdict": "differs", "this_z": 3.0,
+         "quantity": "mu_sp three"},
+        {"id": "b", "class": "number", "this_verdict": "differs", "this_z": -7.0,
+         "quantity": "D seven"},
+        {"id": "c", "class": "trend", "this_verdict": "agrees"},
+        {"id": "d", "class": "trend", "this_verdict": "inconclusive: needs a standard "
+         "error below 0.1"},
+        {"id": "e", "class": "analytic", "this_verdict": "agrees"}])
+    table.to_csv(figures / "paper_comparison.csv", index=False)
+    (figures / "paper_comparison.md").write_text("| claim |\n|---|\n| <D> |\n")
     (figures / "table1.md").write_text("| N_E |\n|---|\n| 320 |\n")
-    (figures / "fig03.png").write_bytes(b"png")
+    Image.new("RGB", (40, 20), "white").save(figures / "fig03.png")
+    (figures / "fig03.txt").write_text("Figure 3. What the script plots.\n")
+    write_table(tmp_path / "results" / "grid" / "table.csv", [
+        {"ca": 0.1, "phi": 0.1, "mesh_level": 3, "seed": 1, "t_start": 10.0, "t_end": 30.0,
+         "ended": "t_end", "intrinsic": 0},
+        {"ca": 0.5, "phi": 0.4, "mesh_level": 3, "seed": 1, "t_start": 10.0, "t_end": 27.5,
+         "ended": "numerical", "intrinsic": 0},
+        {"ca": 0.5, "phi": 0.0, "mesh_level": 3, "seed": 1, "t_start": 10.0, "t_end": 20.0,
+         "ended": "t_end", "intrinsic": 1}])
     text = results_page.page(tmp_path / "results", "config/x.yaml", ["fig03", "fig12"],
-                             tmp_path / "docs" / "results", date="2026-12-04")
-    assert "`config/x.yaml`, generated on 2026-12-04" in text
+                             tmp_path / "docs" / "results", date="2026-12-05")
+    assert "`config/x.yaml`, generated on 2026-12-05" in text
+    assert "- numbers: 2 differs (of 2)" in text
+    assert "- trends: 1 agrees, 1 inconclusive (of 2)" in text and "- analytic: 1 agrees" in text
+    # The largest disagreement first, by its distance in combined standard errors.
+    assert text.index("D seven") < text.index("mu_sp three") < text.index("## Every claim")
     assert text.index("| <D> |") < text.index("## Table 1") < text.index("| 320 |")
-    assert "![Figure 3](results/fig03.png)" in text
+    assert "- grid (dilute limit): gammadot t in [10, 20]\n" in text
+    assert "- grid (suspensions): gammadot t in [10, 27.5], [10, 30] (stopped early: " \
+           "Ca 0.5 phi 0.4 level 3 seed 1 numerical at 27.5)" in text
+    assert "![Figure 3](results/fig03.png)\n\nFigure 3. What the script plots." in text
     assert "Figure 12: not in this configuration." in text
-    assert (tmp_path / "docs" / "results" / "fig03.png").read_bytes() == b"png"
+    assert Image.open(tmp_path / "docs" / "results" / "fig03.png").size == (20, 10)
+    assert "## The claims and how they are counted" in text and "Statements not compared" in text
+
+
+def test_every_figure_of_the_paper_3_to_12_is_on_the_page():
+    assert results_page.FIGURES == [f"fig{n:02d}" for n in range(3, 13)]
 
 
 def test_the_archive_is_named_within_the_repository_with_its_counts():
@@ -26,3 +69,9 @@ def test_the_archive_is_named_within_the_repository_with_its_counts():
     line = results_page.archive_line(store)
     assert line.startswith("Its runs are kept in the results archive "
                            "`archive/quantitative`: " + f"{records} records")
+
+
+def test_the_headline_counts_the_verdicts_of_the_committed_page():
+    text = (ROOT / "docs" / "results.md").read_text()
+    assert "## Headline" in text and "- trends:" in text and "- other papers:" in text
+    assert set(pc.CLASSES) == set(results_page.CLASS_NAMES)

@@ -39,7 +39,11 @@ def test_ci_workflow_and_check(tmp_path):
     # The paper's numbers against the ci run: most are not in this tiny configuration.
     comparison = (figures / "paper_comparison.md").read_text()
     assert "this run (config/ci.yaml)" in comparison
-    assert "not in this configuration" in comparison and "Rule: a value agrees" in comparison
+    assert "not in this configuration" in comparison
+    assert "Rule (analysis/paper_comparison.py)" in comparison
+    # The check held the figure data and the verdicts against config/expected/ci/.
+    assert "the paper comparison is as committed; the figure data are as committed" in \
+        (tmp_path / "results" / "check" / "report.md").read_text()
     assert (figures / "paper_comparison.csv").stat().st_size > 0
     # A run two studies need is made once: the mesh study's coarse run and the box-size
     # study's M = 2, seed 1 are the grid's point (Ca 0.4, phi 0.2, M 2, level 1, seed 1);

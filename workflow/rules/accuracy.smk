@@ -37,6 +37,7 @@ rule speed_error_figure:
         png="results/figures/speed_error.png",
         pdf="results/figures/speed_error.pdf",
         csv="results/figures/speed_error.csv",
+        caption="results/figures/speed_error.txt",
     log:
         "results/logs/figures/speed_error.log",
     params:

@@ -1,6 +1,7 @@
-# One script per figure (figures/figNN.py) and one for Table 1 (figures/table1.py). Each
-# writes results/figures/<name>.png, .pdf and the plotted data as .csv; table1 writes .md
-# and .csv. The scripts read only the tables and run folders named here.
+# One script per figure (figures/figNN.py) and one for Table 1 (figures/table1.py, the
+# entry of analysis/table1.py). Each writes results/figures/<name>.png, .pdf, the plotted
+# data as .csv and its caption as .txt; table1 writes .md and .csv. The scripts read only
+# the tables and run folders named here.
 GRID_WITH_FITS = ["results/grid/table.csv", "results/grid/fits.csv"]
 FIGURE_INPUTS = {
     "fig01": multipole_tables,
@@ -17,7 +18,7 @@ FIGURE_INPUTS = {
     "fig12": lambda: ["results/boxsize/table.csv"],
 }
 FIGURE_OUTPUTS = expand("results/figures/{name}.{ext}", name=FIGURE_INPUTS,
-                        ext=["png", "pdf", "csv"]) + ["results/figures/table1.md",
+                        ext=["png", "pdf", "csv", "txt"]) + ["results/figures/table1.md",
                                                      "results/figures/table1.csv"]
 FIGURE_OPTIONS = (f"--t-start {config['averages']['t_start']} "
                   f"--phi-m {config['figures']['phi_m']} "
@@ -54,6 +55,7 @@ rule figure:
         png="results/figures/{name}.png",
         pdf="results/figures/{name}.pdf",
         csv="results/figures/{name}.csv",
+        caption="results/figures/{name}.txt",
     log:
         "results/logs/figures/{name}.log",
     wildcard_constraints:
@@ -84,17 +86,21 @@ rule table1:
         "{params.python} {input.script} --out {params.stem} {input.table} > {log} 2>&1"
 
 
-# The paper's numbers (config/paper_numbers.yaml: Table 1, the text's numbers, the trends
-# of figures 5, 7, 9, 10 as signs, and published single-capsule values) against this
-# run's, with their standard errors and a verdict (analysis/paper_comparison.py). The
-# column is labelled with the configuration files of this run. A second column from
-# another results folder: `python -m analysis.paper_comparison ... --other DIR`.
+# Every checkable statement of the paper (config/paper_numbers.yaml: its numbers, its
+# trends over Ca and phi, other papers' dilute values, its arithmetic) against this run's,
+# with their standard errors and a verdict (analysis/paper_comparison.py): one row per
+# claim (.md, .csv) and one per datum tested (_points.csv, which the check holds against
+# the committed one). The column is labelled with the configuration files of this run. A
+# second column from another results folder: `python -m analysis.paper_comparison ...
+# --other DIR`.
 COMPARISON_INPUTS = ["results/dilute/table.csv", "results/grid/table.csv",
                      "results/grid/fits.csv", "results/mesh/table.csv"] + [
     f"results/figures/{name}.csv"
-    for name in ("table1", "fig01", "fig05", "fig06", "fig07", "fig08", "fig09", "fig10", "fig11")]
+    for name in ("table1", "fig01", "fig03", "fig05", "fig06", "fig08", "fig09", "fig10",
+                 "fig11", "fig12")]
 COMPARISON_OUTPUTS = ["results/figures/paper_comparison.md",
-                      "results/figures/paper_comparison.csv"]
+                      "results/figures/paper_comparison.csv",
+                      "results/figures/paper_comparison_points.csv"]
 # The --configfile files of this invocation (merged over config/config.yaml).
 COMPARISON_LABEL = ", ".join(os.path.relpath(f, ROOT) for f in
                              (workflow.overwrite_configfiles or workflow.configfiles))
@@ -108,6 +114,7 @@ rule paper_comparison:
     output:
         md=COMPARISON_OUTPUTS[0],
         csv=COMPARISON_OUTPUTS[1],
+        points=COMPARISON_OUTPUTS[2],
     log:
         "results/logs/figures/paper_comparison.log",
     params:
@@ -119,16 +126,19 @@ rule paper_comparison:
         "--numbers {input.numbers} --out {params.stem} --label '{params.label}' > {log} 2>&1"
 
 
-# The results page of this configuration (docs/results.md, its figures in docs/results/):
-# a target of its own, outside `all`, since it writes into the repository's docs
-# (pipeline/results_page.py). `snakemake results_page --configfile config/quantitative.yaml`
-# publishes the quantitative reproduction.
+# The results page of this configuration (docs/results.md, its figures reduced in
+# docs/results/): a target of its own, outside `all`, since it writes into the
+# repository's docs (pipeline/results_page.py). `snakemake results_page --configfile
+# config/quantitative.yaml` publishes the quantitative reproduction.
 rule results_page:
     input:
         COMPARISON_OUTPUTS,
         "results/figures/table1.md",
-        expand("results/figures/{name}.png", name=results_page.FIGURES),
+        expand("results/figures/{name}.{ext}", name=results_page.FIGURES,
+               ext=["png", "txt"]),
+        [f"results/{study}/table.csv" for study in ("grid", "mesh", "boxsize")],
         code=os.path.join(ROOT, "pipeline", "results_page.py"),
+        numbers=os.path.join(ROOT, "config", "paper_numbers.yaml"),
     output:
         os.path.join(ROOT, "docs", "results.md"),
     params:
@@ -137,4 +147,4 @@ rule results_page:
         archive=f"--archive {ARCHIVE}" if ARCHIVE else "",
     shell:
         "{params.python} -m pipeline.results_page --results results --out {output} "
-        "--label '{params.label}' {params.archive}"
+        "--label '{params.label}' --numbers {input.numbers} {params.archive}"

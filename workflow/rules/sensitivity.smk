@@ -49,6 +49,7 @@ rule sensitivity_figure:
         png="results/figures/sensitivity.png",
         pdf="results/figures/sensitivity.pdf",
         csv="results/figures/sensitivity.csv",
+        caption="results/figures/sensitivity.txt",
     log:
         "results/logs/figures/sensitivity.log",
     params:
