@@ -25,16 +25,32 @@ keep a record small, or be committed and reviewed. Storage plugins move files to
 storage but do not decide which run is which. A record keyed by the run's own physics
 (its options and the solver's physics version), checked file by file, in git, does.
 
-    python -m pipeline.archive verify ARCHIVE_OR_RECORD...   check records (exit 1 if bad)
+A record's identity comes from the record itself: its key is that of the options it
+stores (run_spec.options_key()), and run.yaml, summary.json's parameters, the state's
+options and the series' capsule count must all be those options; read_record() refuses
+a record where they are not, or where a file is missing, damaged or not listed. The
+checksums catch accidental damage and careless copies, not a forger with write access
+to the repository (git history and review guard that). A record is only ever written
+whole, replacing one of the same key: one of another physics version or of other
+options is kept as it is (collect() refuses to replace it). Restores and recordings are
+atomic (into a temporary folder, renamed into place) and serialised by a lock on the
+archive folder itself (flock), which concurrent invocations share.
+
+    python -m pipeline.archive verify ARCHIVE_OR_RECORD...   check records (exit 1 if bad),
+                                                             and report files and folders
+                                                             that are no record's
     python -m pipeline.archive list ARCHIVE...               one line per record
     python -m pipeline.archive replay --capsim C RECORD...   recompute the stretch after
                                                              each record's state, compare
 """
 
 import argparse
+import contextlib
+import fcntl
 import hashlib
 import json
 import math
+import os
 import shutil
 import subprocess
 import sys
@@ -45,17 +61,55 @@ import h5py
 import numpy as np
 import yaml
 
-from pipeline.run_spec import physics_version
+from pipeline.run_spec import flat_options, options_differ, options_key, physics_version
 
 FORMAT = 1
 RECORD = "record.json"
 SUMMARY, RUN_YAML, SERIES = "summary.json", "run.yaml", "timeseries.h5"
 STATE = "state.h5"
 CHECKPOINT = "checkpoint.h5"
+# Written into a run folder restored from a record: the record, its key and physics
+# version, and the sha256 of every file restored, so that the folder is known for what it
+# is and checked against it (check_folder()).
+RESTORED = "restored.json"
+SEGMENTS = "segments.json"
 
 
 class ArchiveError(RuntimeError):
-    """A record that cannot be used: its checksum or format is wrong."""
+    """A record or a run folder that cannot be used: the message names it and says what
+    is wrong and what to do."""
+
+
+@contextlib.contextmanager
+def locked(folder):
+    """Holds an exclusive lock on a folder (flock on the folder itself: nothing is
+    written, so a read-only archive can be locked too) while every restore from and
+    recording into it runs: concurrent invocations take turns."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
+
+
+def _new_folder(target):
+    """An empty temporary folder beside `target`, to be renamed into place."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp",
+                                 dir=target.parent))
+
+
+def _replace(tmp, target):
+    """Puts the folder tmp in the place of target (renames: the old one is gone only
+    once the new one is there)."""
+    old = None
+    if target.exists():
+        old = target.with_name(f".{target.name}.{os.getpid()}.old")
+        target.rename(old)
+    tmp.rename(target)
+    if old is not None:
+        shutil.rmtree(old)
 
 
 def sha256(path):
@@ -120,133 +174,269 @@ def _last_snapshot(run_dir):
 
 
 def read_record(record_dir):
-    """record.json of a record, checked: its format, its own checksum and the sha256 of
-    every file it lists. Raises ArchiveError naming the record and what is wrong."""
+    """record.json of a record, checked: its format, its own checksum, the sha256 of
+    every file it lists, that it lists every file there is, and its identity
+    (check_identity()). Raises ArchiveError naming the record and what is wrong."""
     record_dir = Path(record_dir)
-    path = record_dir / RECORD
     try:
-        record = json.loads(path.read_text())
-    except (OSError, ValueError) as e:
-        raise ArchiveError(f"archive record {record_dir}: {RECORD} cannot be read ({e})")
-    if not isinstance(record, dict) or record.get("format") != FORMAT:
-        raise ArchiveError(f"archive record {record_dir}: unknown format "
-                           f"{record.get('format') if isinstance(record, dict) else '?'} "
-                           f"(this version reads format {FORMAT})")
-    if record.get("checksum") != _content_checksum(record):
-        raise ArchiveError(f"archive record {record_dir}: {RECORD} does not match its "
-                           "checksum (edited or damaged)")
-    for name, digest in record["files"].items():
-        file = record_dir / name
-        if not file.is_file():
-            raise ArchiveError(f"archive record {record_dir}: {name} is missing")
-        if sha256(file) != digest:
-            raise ArchiveError(f"archive record {record_dir}: {name} does not match its "
-                               "sha256 in record.json (edited or damaged)")
+        record = json.loads((record_dir / RECORD).read_text())
+        if not isinstance(record, dict) or record.get("format") != FORMAT:
+            raise ArchiveError(
+                f"unknown format {record.get('format') if isinstance(record, dict) else '?'}"
+                f" (this version reads format {FORMAT})")
+        if record.get("checksum") != _content_checksum(record):
+            raise ArchiveError(f"{RECORD} does not match its checksum (edited or damaged)")
+        for name, digest in record["files"].items():
+            if not (record_dir / name).is_file():
+                raise ArchiveError(f"{name} is missing")
+            if sha256(record_dir / name) != digest:
+                raise ArchiveError(f"{name} does not match its sha256 in {RECORD} (edited "
+                                   "or damaged)")
+        unlisted = sorted(p.name for p in record_dir.iterdir()
+                          if p.name != RECORD and p.name not in record["files"])
+        if unlisted:
+            raise ArchiveError(f"holds {', '.join(unlisted)}, which {RECORD} does not "
+                               "list (copied in?)")
+        check_identity(record_dir, record)
+    except (OSError, ValueError, KeyError, yaml.YAMLError, ArchiveError) as e:
+        what = e if isinstance(e, ArchiveError) else f"{RECORD} cannot be read ({e})"
+        raise ArchiveError(f"archive record {record_dir}: {what}: refused. Restore it from "
+                           f"git (git checkout -- '{record_dir}') or remove it to compute "
+                           "the run anew") from None
     return record
+
+
+def _yaml_file(path):
+    return yaml.safe_load(Path(path).read_text()) or {}
+
+
+def check_identity(record_dir, record):
+    """That a record is what it says: named by its folder, its key that of the options it
+    stores, and run.yaml, summary.json's parameters, the state's options and the series'
+    capsule count those options (a file copied from another run is caught). Raises
+    ArchiveError (read_record() names the record)."""
+    def refuse(what):
+        raise ArchiveError(what)
+
+    if (record.get("study"), record.get("name")) != (record_dir.parent.name,
+                                                     record_dir.name):
+        refuse(f"{RECORD} names {record.get('study')}/{record.get('name')}, another record")
+    options = record["options"]
+    if record["key"] != options_key(options, record["physics_version"]):
+        refuse(f"its key is not that of the options {RECORD} stores (edited?)")
+    if _yaml_file(record_dir / RUN_YAML) != options:
+        refuse(f"{RUN_YAML} is not the options {RECORD} stores (copied from another run?)")
+    others = []
+    if SUMMARY in record["files"]:
+        others.append((SUMMARY, json.loads((record_dir / SUMMARY).read_text())
+                       .get("parameters", {})))
+    if STATE in record["files"]:
+        with h5py.File(record_dir / STATE, "r") as f:
+            others.append((STATE, yaml.safe_load(f["options_yaml"][()].decode())))
+    for name, other in others:
+        differ = options_differ(other, options)
+        if differ:
+            refuse(f"{name} is of another run than {RUN_YAML} ({differ})")
+    with h5py.File(record_dir / SERIES, "r") as f:
+        capsules = int(f.attrs.get("num_capsules", 1))
+    if capsules != int(flat_options(options).get("capsules", 1)):
+        refuse(f"{SERIES} holds {capsules} capsules, {RUN_YAML} says "
+               f"{flat_options(options).get('capsules')}")
 
 
 def reached(run_dir):
     """How far a run folder got: (finished, t) with t the checkpoint's time, or the end
-    of a finished run; None for a folder without a run."""
+    of a finished run; None for a folder without a run. A finished folder must hold its
+    options and series too. Raises ArchiveError naming a folder that cannot be read."""
     run_dir = Path(run_dir)
-    if (run_dir / SUMMARY).exists():  # its t_end: the last row (a stop's time)
-        return True, float(json.loads((run_dir / SUMMARY).read_text())["t_end"] or 0)
-    if (run_dir / CHECKPOINT).exists():
-        return False, _checkpoint_time(run_dir / CHECKPOINT)
+    try:
+        if (run_dir / SUMMARY).exists():  # its t_end: the last row (a stop's time)
+            missing = [n for n in (RUN_YAML, SERIES) if not (run_dir / n).is_file()]
+            if missing:
+                raise ValueError(f"finished, but {', '.join(missing)} missing")
+            return True, float(json.loads((run_dir / SUMMARY).read_text())["t_end"] or 0)
+        if (run_dir / CHECKPOINT).exists():
+            return False, _checkpoint_time(run_dir / CHECKPOINT)
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise ArchiveError(f"run folder {run_dir} is damaged ({type(e).__name__}: {e}): "
+                           f"remove it (rm -r '{run_dir}') to restore or compute the run "
+                           "anew")
     return None
 
 
-def collect(run_dir, record_dir, key, final_state=False):
-    """Records the run folder in the archive (replacing an older record of it; a record
-    of the same key that reached further is kept). final_state: a finished run keeps its
-    last checkpoint as its state (a dilute run: figure 1 reads its capsule). Returns the
-    record."""
-    run_dir, record_dir = Path(run_dir), Path(record_dir)
-    state = reached(run_dir)
-    if state is None:
-        raise ArchiveError(f"{run_dir}: no run to record (no summary.json, no checkpoint)")
-    finished, t = state
-    previous = None
-    if (record_dir / RECORD).exists():
-        try:
-            previous = read_record(record_dir)
-        except ArchiveError:
-            previous = None  # a broken record is replaced
-    if previous and previous["key"] == key and previous["t_reached"] > t:
-        return previous
-    tmp = record_dir.with_name(record_dir.name + ".tmp")
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir(parents=True)
-    shutil.copyfile(run_dir / RUN_YAML, tmp / RUN_YAML)
-    compact_series(run_dir / SERIES, tmp / SERIES)
-    state_time = None
-    if finished:
-        shutil.copyfile(run_dir / SUMMARY, tmp / SUMMARY)
-        audit = record_dir / STATE
-        if final_state:
-            shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
-            state_time = _checkpoint_time(run_dir / CHECKPOINT)
-        elif (previous and previous["key"] == key and previous["state_time"] is not None
-                and previous["state_time"] < t):  # the start of the last segment
-            shutil.copyfile(audit, tmp / STATE)
-            state_time = previous["state_time"]
-    else:
-        shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
-        state_time = t
-    snapshot = _last_snapshot(run_dir)
-    if snapshot is not None:
-        shutil.copyfile(snapshot, tmp / snapshot.name)
-    segments_file = run_dir / "segments.json"
+def folder_options(run_dir):
+    """The resolved options of a run folder (its run.yaml), or None without one."""
+    path = Path(run_dir) / RUN_YAML
+    return _yaml_file(path) if path.is_file() else None
+
+
+def folder_version(run_dir):
+    """The physics version a run folder was made with: its record's, if restored, else
+    that of its last segment (None where neither says: made before they did)."""
+    run_dir = Path(run_dir)
+    if (run_dir / RESTORED).is_file():
+        return json.loads((run_dir / RESTORED).read_text())["physics_version"]
+    if (run_dir / SEGMENTS).is_file():
+        segments = json.loads((run_dir / SEGMENTS).read_text())
+        if segments and segments[-1].get("physics_version"):
+            return segments[-1]["physics_version"]
+    return None
+
+
+def check_folder(run_dir, options):
+    """That a run folder holds the run of these resolved options (its run.yaml), of this
+    physics version, and, where it was restored from a record, every file as it was
+    restored. Raises ArchiveError naming the folder and what to do."""
+    run_dir = Path(run_dir)
+    hint = f"remove it (rm -r '{run_dir}') to restore or compute the run anew"
+    got = folder_options(run_dir)
+    if got is None:
+        return
+    differ = options_differ(got, options)
+    if differ:
+        raise ArchiveError(f"run folder {run_dir} holds another run than this "
+                           f"configuration's ({differ}): {hint}")
+    version = folder_version(run_dir)
+    if version is not None and version != physics_version():
+        raise ArchiveError(f"run folder {run_dir} was made by physics version {version}, "
+                           f"this solver's is {physics_version()}: {hint}")
+    if (run_dir / RESTORED).is_file():
+        files = json.loads((run_dir / RESTORED).read_text())["files"]
+        for name, digest in files.items():
+            if not (run_dir / name).is_file() or (
+                    name != SEGMENTS and sha256(run_dir / name) != digest):
+                raise ArchiveError(f"run folder {run_dir}: {name} is not as restored "
+                                   f"from the archive (missing or changed): {hint}")
+
+
+def _take_segments(run_dir, summary, t):
+    """The segments of a run folder (segments.json), or, for a run made outside the
+    job, its last invocation as summary.json gives it."""
+    segments_file = run_dir / SEGMENTS
     segments = json.loads(segments_file.read_text()) if segments_file.exists() else []
-    summary = json.loads((run_dir / SUMMARY).read_text()) if finished else {}
-    if not segments and summary:  # a run made outside the job: its last invocation only
+    if not segments and summary:
         segments = [{"t_from": None, "t_to": t, "cpu_seconds": summary.get("cpu_seconds"),
                      "wall_seconds": summary.get("wall_seconds"),
                      "threads": summary.get("threads"), "machine": None,
                      "commit": None, "date": None}]
-    options = yaml.safe_load((run_dir / RUN_YAML).read_text())
-    with h5py.File(run_dir / SERIES, "r") as f:
-        rows = int(f["time"].shape[0])
-        t_last = float(f["time"][-1]) if rows else 0.0
-    record = {
-        "format": FORMAT, "key": key, "physics_version": physics_version(),
-        "study": record_dir.parent.name, "name": record_dir.name,
-        "finished": finished, "ended": summary.get("ended"),
-        "t_end": options.get("t_end"), "t_avg_start": options.get("t_avg_start"),
-        "t_reached": t, "rows": rows, "t_last_row": t_last, "state_time": state_time,
-        "solver_version": summary.get("version"), "options": options,
-        "segments": segments,
-        "cpu_seconds": round(sum(s.get("cpu_seconds") or 0 for s in segments), 2),
-        "files": {p.name: sha256(p) for p in sorted(tmp.iterdir())},
-    }
-    record["checksum"] = _content_checksum(record)
-    (tmp / RECORD).write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
-    old = record_dir.with_name(record_dir.name + ".old")
-    shutil.rmtree(old, ignore_errors=True)
-    if record_dir.exists():
-        record_dir.rename(old)
-    tmp.rename(record_dir)
-    shutil.rmtree(old, ignore_errors=True)
+    return segments
+
+
+def collect(run_dir, record_dir, options, final_state=False):
+    """Records the run folder in the archive, as the run of the resolved `options` (the
+    configuration's), replacing an older record of the same key (a record of it that
+    reached as far is kept). final_state: a finished run keeps its last checkpoint as its
+    state (a dilute run: figure 1 reads its capsule). Refused (ArchiveError, nothing
+    written) for a folder that holds another run, and where the record holds another
+    physics version or other options: that record stays as it is. Returns the record."""
+    run_dir, record_dir = Path(run_dir), Path(record_dir)
+    state = reached(run_dir)
+    if state is None:
+        raise ArchiveError(f"{run_dir}: no run to record (no summary.json, no checkpoint)")
+    check_folder(run_dir, options)
+    finished, t = state
+    key = options_key(options, physics_version())
+    record_dir.parent.mkdir(parents=True, exist_ok=True)
+    with locked(record_dir.parent.parent):
+        previous = read_record(record_dir) if (record_dir / RECORD).exists() else None
+        if previous and previous["key"] != key:
+            why = (f"physics version {previous['physics_version']}"
+                   if previous["physics_version"] != physics_version() else
+                   f"other options: {options_differ(previous['options'], options)}")
+            raise ArchiveError(f"archive record {record_dir} holds another run ({why}): "
+                               f"kept as it is, {run_dir} is not recorded. To record it "
+                               f"in its place, remove the record (git rm -r '{record_dir}')")
+        if previous and previous["t_reached"] >= t:
+            return previous
+        return _write_record(run_dir, record_dir, key, previous, finished, t, final_state)
+
+
+def _write_record(run_dir, record_dir, key, previous, finished, t, final_state):
+    tmp = _new_folder(record_dir)
+    try:
+        shutil.copyfile(run_dir / RUN_YAML, tmp / RUN_YAML)
+        compact_series(run_dir / SERIES, tmp / SERIES)
+        state_time = None
+        if finished:
+            shutil.copyfile(run_dir / SUMMARY, tmp / SUMMARY)
+            if final_state:
+                shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
+                state_time = _checkpoint_time(run_dir / CHECKPOINT)
+            elif (previous and previous["state_time"] is not None
+                    and previous["state_time"] < t):  # the start of the last segment
+                shutil.copyfile(record_dir / STATE, tmp / STATE)
+                state_time = previous["state_time"]
+        else:
+            shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
+            state_time = t
+        snapshot = _last_snapshot(run_dir)
+        if snapshot is not None:
+            shutil.copyfile(snapshot, tmp / snapshot.name)
+        summary = json.loads((run_dir / SUMMARY).read_text()) if finished else {}
+        segments = _take_segments(run_dir, summary, t)
+        options = _yaml_file(run_dir / RUN_YAML)
+        with h5py.File(run_dir / SERIES, "r") as f:
+            rows = int(f["time"].shape[0])
+            t_last = float(f["time"][-1]) if rows else 0.0
+        record = {
+            "format": FORMAT, "key": key, "physics_version": physics_version(),
+            "study": record_dir.parent.name, "name": record_dir.name,
+            "finished": finished, "ended": summary.get("ended"),
+            "t_end": options.get("t_end"), "t_avg_start": options.get("t_avg_start"),
+            "t_reached": t, "rows": rows, "t_last_row": t_last, "state_time": state_time,
+            "solver_version": summary.get("version"), "options": options,
+            "segments": segments,
+            "cpu_seconds": round(sum(s.get("cpu_seconds") or 0 for s in segments), 2),
+            "files": {p.name: sha256(p) for p in sorted(tmp.iterdir())},
+        }
+        record["checksum"] = _content_checksum(record)
+        (tmp / RECORD).write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+        _replace(tmp, record_dir)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     return record
 
 
-def restore(record_dir, run_dir, record, full):
-    """Writes a record into a run folder: everything a finished run's readers need when
-    `full` (summary.json included), else the time series and the state to continue
-    from (as checkpoint.h5) only."""
-    record_dir, run_dir = Path(record_dir), Path(run_dir)
-    shutil.rmtree(run_dir, ignore_errors=True)
-    run_dir.mkdir(parents=True)
+def _restore_files(record_dir, run_dir, record, full):
+    """Writes a record's files into the new folder run_dir, only those it lists; returns
+    {file: sha256} of what was written."""
+    run_dir.mkdir(parents=True, exist_ok=True)
+    listed = record["files"]
     shutil.copyfile(record_dir / RUN_YAML, run_dir / RUN_YAML)
     widen_series(record_dir / SERIES, run_dir / SERIES)
     if record["state_time"] is not None:
         shutil.copyfile(record_dir / STATE, run_dir / CHECKPOINT)
-    for snapshot in record_dir.glob("snapshot_*.h5"):
+    for name in sorted(n for n in listed if n.startswith("snapshot_")):
         (run_dir / "snapshots").mkdir(exist_ok=True)
-        shutil.copyfile(snapshot, run_dir / "snapshots" / snapshot.name)
-    (run_dir / "segments.json").write_text(json.dumps(record["segments"], indent=1) + "\n")
+        shutil.copyfile(record_dir / name, run_dir / "snapshots" / name)
+    (run_dir / SEGMENTS).write_text(json.dumps(record["segments"], indent=1) + "\n")
     if full:
         shutil.copyfile(record_dir / SUMMARY, run_dir / SUMMARY)
+    if not full:  # the run goes on in the folder: its files change
+        return {}
+    return {str(p.relative_to(run_dir)): sha256(p) for p in sorted(run_dir.rglob("*"))
+            if p.is_file()}
+
+
+def restore(record_dir, run_dir, record, full, marker_name=None):
+    """Writes a record into a run folder, whole and at once (a temporary folder renamed
+    into place): everything a finished run's readers need when `full` (summary.json
+    included), else the time series and the state to continue from (as checkpoint.h5),
+    with the marker file `marker_name` of the last segment it covers. Only the files the
+    record lists; restored.json says what was restored."""
+    record_dir, run_dir = Path(record_dir), Path(run_dir)
+    tmp = _new_folder(run_dir)
+    try:
+        files = _restore_files(record_dir, tmp, record, full)
+        if marker_name:
+            (tmp / marker_name).write_text(json.dumps({"t": record["state_time"]}) + "\n")
+        (tmp / RESTORED).write_text(json.dumps(
+            {"record": str(record_dir), "key": record["key"],
+             "physics_version": record["physics_version"], "files": files},
+            indent=1, sort_keys=True) + "\n")
+        _replace(tmp, run_dir)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def marker(run_dir, k):
@@ -254,58 +444,113 @@ def marker(run_dir, k):
     return Path(run_dir) / f"segment{k}.done"
 
 
-def _usable(record, spec, key, current):
-    """How a checked record serves a run: "full", "partial" (a state to continue from),
-    or why not: "stale" (another physics version), "changed" (other options), None."""
-    if record["physics_version"] != current:
+def usable(record, options):
+    """How a checked record serves the run of the resolved `options`: "full", "partial"
+    (a state to continue from), or why not: "stale" (another physics version),
+    "changed" (other options), None (it reaches no further than the start)."""
+    if record["physics_version"] != physics_version():
         return "stale"
-    if record["key"] != key:
+    if record["key"] != options_key(options, physics_version()):
         return "changed"
-    if (record["finished"] and record["t_end"] == spec.t_end
-            and record["t_avg_start"] == spec.t_avg_start):
+    flat = flat_options(options)
+    if (record["finished"] and float(record["t_end"]) == float(flat["t_end"])
+            and float(record["t_avg_start"]) == float(flat["t_avg_start"])):
         return "full"
-    if record["state_time"] is not None and record["state_time"] < spec.t_end:
+    if record["state_time"] is not None and record["state_time"] < float(flat["t_end"]):
         return "partial"
     return None
 
 
-def sync(specs, archive_root, segment_ends, workdir="."):
-    """Brings the run folders of a configuration and its archive up to date with each
-    other, before the workflow decides what to run: a record that reaches further than
-    the folder is restored into it (a finished one whole; an unfinished one as its state,
-    with the marker of its last segment done), and a folder that reaches further than
-    the archive is recorded. segment_ends(spec): the pause times of the run's segments.
-    Returns {"restored": [...], "partial": [...], "recorded": [...], "stale": [...],
-    "changed": [...]} (run folders). Raises ArchiveError for a damaged record."""
-    current = physics_version()
-    report = {k: [] for k in ("restored", "partial", "recorded", "stale", "changed")}
+def restore_run(record_dir, run_dir, options, pause_at=None, marker_name=None):
+    """The workflow's restore job: under the archive's lock, checks the record (whole, and
+    that it is the run of `options`) and restores it into run_dir: whole, or (pause_at)
+    to continue from its state, which must reach pause_at, with the segment's marker.
+    Nothing is done where run_dir already holds the run as far (another invocation
+    restored it). Raises ArchiveError naming the record."""
+    record_dir, run_dir = Path(record_dir), Path(run_dir)
+    with locked(record_dir.parent.parent):
+        record = read_record(record_dir)
+        use = usable(record, options)
+        want = "full" if pause_at is None else "partial"
+        if use != want or (pause_at is not None and record["state_time"] < pause_at):
+            raise ArchiveError(f"archive record {record_dir} cannot be restored as the "
+                               f"{'whole run' if want == 'full' else 'start'} of {run_dir} "
+                               f"({use or 'it reaches no further'}): run snakemake again")
+        local = reached(run_dir)
+        if local is not None:
+            check_folder(run_dir, options)
+            if local[0] or (pause_at is not None and local[1] >= record["state_time"]):
+                if marker_name and not (run_dir / marker_name).exists():
+                    (run_dir / marker_name).write_text(json.dumps({"t": local[1]}) + "\n")
+                return False
+        restore(record_dir, run_dir, record, full=pause_at is None, marker_name=marker_name)
+        return True
+
+
+def orphans(archive_root):
+    """The folders of an archive (<study>/<name>, and leftovers of an interrupted
+    recording) that hold no record.json: no record's."""
+    root = Path(archive_root)
+    return sorted(p for study in root.iterdir() if study.is_dir()
+                  for p in study.iterdir() if not (p / RECORD).is_file()) \
+        if root.is_dir() else []
+
+
+def plan(specs, archive_root, options_of, segment_ends, workdir="."):
+    """What the archive does for each run (RunSpec) of a configuration, read only (a dry
+    run writes nothing). options_of(spec): the run's resolved options (asked only for a
+    run that has a record or a folder); segment_ends(spec): the pause times of its
+    segments. Returns {"restore": {folder: record_dir}, "continue": {folder:
+    (record_dir, k)} (restored to continue after segment k), "stale": [...],
+    "changed": [...], "ahead": [...] (results/ reaches further than the record: the
+    run's next job records it)}. Raises ArchiveError for a damaged record, a run folder
+    that holds another run, or a folder of the archive that is no record."""
+    out = {"restore": {}, "continue": {}, "stale": [], "changed": [], "ahead": []}
+    empty = orphans(archive_root)
+    if empty:
+        raise ArchiveError(f"archive {archive_root}: {', '.join(map(str, empty))} "
+                           f"hold{'s' if len(empty) == 1 else ''} no {RECORD}, so no "
+                           "record: restore it from git (git checkout -- <folder>) or "
+                           "remove it")
+    foreign = []  # run folders of other runs: all named at once
     for spec in specs:
         run_dir = Path(workdir) / spec.folder
         record_dir = Path(archive_root) / spec.study / spec.name
-        key = spec.key(current)
-        record = read_record(record_dir) if (record_dir / RECORD).exists() else None
-        use = _usable(record, spec, key, current) if record else None
-        if use in ("stale", "changed"):
-            report[use].append(spec.folder)
         local = reached(run_dir)
-        if use == "full" and (local is None or not local[0]):
-            restore(record_dir, run_dir, record, full=True)
-            report["restored"].append(spec.folder)
-        elif use == "partial" and (local is None or
-                                   (not local[0] and local[1] < record["state_time"])):
-            restore(record_dir, run_dir, record, full=False)
-            done = [k for k, t in enumerate(segment_ends(spec)[:-1], 1)
-                    if t <= record["state_time"]]
+        if local is None and not (record_dir / RECORD).exists():
+            continue
+        options = options_of(spec)
+        if local is not None:
+            try:
+                check_folder(run_dir, options)
+            except ArchiveError as e:
+                foreign.append((spec.folder, e))
+                continue
+        if not (record_dir / RECORD).exists():
+            if local is not None and (local[0] or local[1] > 0):
+                out["ahead"].append(spec.folder)
+            continue
+        record = read_record(record_dir)
+        use = usable(record, options)
+        if use in ("stale", "changed"):
+            out[use].append(str(record_dir))
+        elif use == "full" and (local is None or not local[0]):
+            out["restore"][spec.folder] = record_dir
+        elif use == "partial" and (local is None or (not local[0] and
+                                                     local[1] < record["state_time"])):
+            ends = segment_ends(spec)
+            done = [k for k, t in enumerate(ends[:-1], 1) if t <= record["state_time"]]
             if done:
-                marker(run_dir, done[-1]).write_text(
-                    json.dumps({"t": record["state_time"]}) + "\n")
-            report["partial"].append(spec.folder)
-        # A folder that reaches further is recorded, unless its run has not left t = 0.
-        elif local is not None and (local[0] or local[1] > 0) and use != "full" and (
-                use != "partial" or local[0] or local[1] > record["t_reached"]):
-            collect(run_dir, record_dir, key, final_state=spec.dilute)
-            report["recorded"].append(spec.folder)
-    return report
+                out["continue"][spec.folder] = (record_dir, done[-1])
+        elif local is not None and (local[0] or local[1] > record["t_reached"]) \
+                and use != "full":
+            out["ahead"].append(spec.folder)
+    if foreign:
+        others = [folder for folder, _ in foreign[1:]]
+        more = (f"; and {len(others)} more alike: {', '.join(others[:4])}"
+                f"{', ...' if len(others) > 4 else ''}") if others else ""
+        raise ArchiveError(f"{foreign[0][1]}{more}")
+    return out
 
 
 # A replay by another build agrees to the record's rounding: a reordered sum moves the
@@ -421,6 +666,13 @@ def main(argv=None):
     args = ap.parse_args(argv)
     bad, sound = 0, []
     current = physics_version()
+    if args.command == "verify":
+        for path in args.paths:
+            for folder in orphans(path) if not (Path(path) / RECORD).exists() else []:
+                print(f"archive {path}: {folder} holds no {RECORD}, so no record: restore "
+                      "it from git (git checkout -- <folder>) or remove it",
+                      file=sys.stderr)
+                bad += 1
     for path in _records(args.paths):
         try:
             record = read_record(path)

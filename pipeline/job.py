@@ -1,7 +1,8 @@
 """One capsim run, or one segment of it, as a workflow job: the command of the run rules.
 
     python -m pipeline.job --capsim CAPSIM --dir RUN_DIR --log LOG [--pause-at T]
-        [--marker FILE] [--archive DIR --record STUDY/NAME --key KEY [--final-state]]
+        [--marker FILE] [--archive DIR --record STUDY/NAME [--final-state] [--restore]]
+        [--archive DIR --restore --restore-runs JSON]
         [--stopped-ok]
         [--resume-set KEY=VALUE ...] -- --set KEY=VALUE ...
 
@@ -22,10 +23,19 @@ checkpoint is already at T (restored from the archive) runs nothing. Either way:
 - capsim's OpenMP threads sleep rather than spin while they wait (OMP_WAIT_POLICY
   passive, unless the environment sets it): as fast alone on the machine, and far faster
   when other jobs share its cores (docs/performance.md);
-- each attempt that ends well appends its provenance to RUN_DIR/segments.json (strain
-  covered, CPU and wall seconds, threads, machine, date, commit), and with --archive the
-  folder is recorded in the results archive (pipeline.archive) at once: a segment
-  computed is a segment kept;
+- each attempt appends its provenance to RUN_DIR/segments.json (strain covered, CPU and
+  wall seconds, threads, machine, date, commit, physics version, how it ended), a failed
+  or killed one too (its CPU time was spent: the record counts it), and with --archive
+  the folder is recorded in the results archive (pipeline.archive) at once, as the run
+  of the options after `--` (resolved by `capsim params --json`): a segment computed is
+  a segment kept. A folder that holds another run is not recorded, and a record of
+  another run is never replaced: the job says so and what to do, and succeeds (the run
+  is in RUN_DIR);
+- with --restore the job computes nothing: it restores the record into RUN_DIR (the
+  whole run, or with --pause-at its state and the segment's --marker), checked against
+  the options after `--` (pipeline.archive.restore_run); with --restore-runs, each run
+  of a list, whole (one job restores every finished run: a job per run cost a process
+  start each);
 - a failure ends with one line on stderr and in LOG naming the run, how capsim ended
   (its exit status, or the signal that killed it), its error message and LOG.
 
@@ -55,7 +65,7 @@ from pathlib import Path
 
 import h5py
 
-from pipeline.run_spec import ROOT
+from pipeline.run_spec import ROOT, physics_version, resolved_options
 
 STOPPED = 3  # capsim: the run stopped early (contact, numerical failure)
 START = "job: start"  # the first line of each attempt in the log
@@ -111,15 +121,19 @@ def machine():
     return f"{platform.node()}: {model}, {os.cpu_count()} cores"
 
 
-def record_segment(run_dir, t_from, cpu_seconds, wall_seconds, threads):
-    """Appends one attempt's provenance to RUN_DIR/segments.json."""
+def record_segment(run_dir, t_from, cpu_seconds, wall_seconds, threads, ended):
+    """Appends one attempt's provenance to RUN_DIR/segments.json (`ended`: how capsim
+    ended, how_it_ended())."""
     path = Path(run_dir) / "segments.json"
+    if not Path(run_dir).is_dir():
+        return
     segments = json.loads(path.read_text()) if path.exists() else []
     segments.append({"t_from": t_from, "t_to": checkpoint_time(run_dir),
                      "cpu_seconds": round(cpu_seconds, 2),
                      "wall_seconds": round(wall_seconds, 2), "threads": threads,
                      "machine": machine(), "commit": git_commit(),
-                     "date": datetime.datetime.now().isoformat(timespec="seconds")})
+                     "date": datetime.datetime.now().isoformat(timespec="seconds"),
+                     "physics_version": physics_version(), "ended": ended})
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(segments, indent=1) + "\n")
     tmp.replace(path)
@@ -156,6 +170,14 @@ def _threads(cmd):
     return int(values[-1]) if values else None
 
 
+class Terminated(Exception):
+    """The job was told to stop (SIGTERM, SIGINT): capsim is killed, the attempt kept."""
+
+
+def _terminate(signum, frame):
+    raise Terminated(signal.Signals(signum).name)
+
+
 def _job_environment():
     """The environment of capsim: this one, with OMP_WAIT_POLICY passive by default."""
     return {"OMP_WAIT_POLICY": "passive", **os.environ}
@@ -182,13 +204,22 @@ def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False, pau
         t_from = checkpoint_time(run_dir) or 0.0
         cpu_before, wall_before = _children_cpu(), time.monotonic()
         # capsim writes to the locked file itself, so the lock lasts as long as capsim,
-        # even if this process is killed first.
-        returncode = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT,
-                                    env=_job_environment()).returncode
-        summary = Path(run_dir) / "summary.json"
-        if returncode in (0, STOPPED) and checkpoint_time(run_dir) is not None:
+        # even if this process is killed first. A job told to stop kills capsim (run()
+        # does on any exception) and still records the attempt's CPU time.
+        returncode = -signal.SIGTERM
+        previous = [signal.signal(s, _terminate) for s in (signal.SIGTERM, signal.SIGINT)]
+        try:
+            returncode = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT,
+                                        env=_job_environment()).returncode
+        except Terminated:
+            pass  # reported below as the signal that stopped the job
+        finally:
+            for s, handler in zip((signal.SIGTERM, signal.SIGINT), previous):
+                signal.signal(s, handler)
             record_segment(run_dir, t_from, _children_cpu() - cpu_before,
-                           time.monotonic() - wall_before, _threads(cmd))
+                           time.monotonic() - wall_before, _threads(cmd),
+                           how_it_ended(returncode))
+        summary = Path(run_dir) / "summary.json"
         if returncode == 0:
             return 0
         if returncode == STOPPED and summary.exists() and stopped_ok:
@@ -254,6 +285,52 @@ def failure_report(snakemake_logs):
     return "\n".join(lines)
 
 
+def _say(log, line):
+    """One line on stderr and in the job's log."""
+    print(line, file=sys.stderr)
+    Path(log).parent.mkdir(parents=True, exist_ok=True)
+    with open(log, "a") as out:
+        out.write(line + "\n")
+
+
+def record_job(args, fresh):
+    """Records the run folder in the archive; where it cannot be (another run in the
+    folder or in the record, an archive that cannot be written), says why and what to
+    do, and the job still succeeds: the run is in its folder."""
+    from pipeline import archive
+    record = Path(args.archive) / args.record
+    try:
+        archive.collect(args.dir, record, resolved_options(args.capsim, fresh),
+                        final_state=args.final_state)
+    except (archive.ArchiveError, OSError) as e:
+        _say(args.log, f"job: {args.dir} NOT RECORDED in the archive: {e}")
+
+
+def restore_job(args, fresh):
+    """The job of the restore rules: each record into its run folder (--dir, --record and
+    the options after `--`, or each run of --restore-runs); exit 1 where one cannot be,
+    the record named."""
+    from pipeline import archive
+    runs = json.loads(args.restore_runs) if args.restore_runs else [
+        (args.record, args.dir, fresh)]
+    marker = Path(args.marker) if args.marker else None
+    if marker is not None and marker.parent != Path(args.dir):
+        raise SystemExit(f"job: --marker {marker} is not in --dir {args.dir}")
+    status = 0
+    for record, run_dir, words in runs:
+        try:
+            done = archive.restore_run(Path(args.archive) / record, run_dir,
+                                       resolved_options(args.capsim, words), args.pause_at,
+                                       marker.name if marker else None)
+        except (archive.ArchiveError, OSError) as e:
+            _say(args.log, f"job: {run_dir} not restored: {e}")
+            status = 1
+            continue
+        _say(args.log, f"job: {run_dir} " + ("restored from " if done else
+                                              "already holds ") + record)
+    return status
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     fresh = []
@@ -262,7 +339,7 @@ def main(argv=None):
         argv, fresh = argv[:cut], argv[cut + 1:]
     ap = argparse.ArgumentParser(description="Run or resume one capsim run as a job.")
     ap.add_argument("--capsim", required=True, help="the capsim executable")
-    ap.add_argument("--dir", required=True, help="the run folder (capsim -o)")
+    ap.add_argument("--dir", help="the run folder (capsim -o)")
     ap.add_argument("--log", required=True, help="the job's log, appended to")
     ap.add_argument("--resume-set", action="append", default=[], metavar="KEY=VALUE",
                     help="a key given on resume (t_end, threads, ...)")
@@ -274,12 +351,22 @@ def main(argv=None):
                     "is done (the output of a segment job)")
     ap.add_argument("--archive", help="the results archive to record the folder in")
     ap.add_argument("--record", help="with --archive: the record's name, STUDY/NAME")
-    ap.add_argument("--key", help="with --archive: the run's provenance key")
     ap.add_argument("--final-state", action="store_true",
                     help="with --archive: a finished run keeps its last checkpoint")
+    ap.add_argument("--restore", action="store_true",
+                    help="with --archive: restore the record into --dir, run nothing")
+    ap.add_argument("--restore-runs", metavar="JSON",
+                    help="with --archive --restore: restore each [record, run folder, "
+                    "[--set words]] of a JSON list instead (--dir and --record unused)")
     args = ap.parse_args(argv)
-    if args.archive and not (args.record and args.key):
-        ap.error("--archive needs --record and --key")
+    if not (args.dir or args.restore_runs):
+        ap.error("--dir is required")
+    if args.archive and not (args.record or args.restore_runs):
+        ap.error("--archive needs --record")
+    if args.restore:
+        if not args.archive:
+            ap.error("--restore needs --archive")
+        return restore_job(args, fresh)
     resume = [a for kv in args.resume_set for a in ("--set", kv)]
     reached = checkpoint_time(args.dir)
     if args.pause_at is not None and (stopped(args.dir) or
@@ -289,9 +376,7 @@ def main(argv=None):
         status = run_job(args.capsim, args.dir, args.log, fresh, resume, args.stopped_ok,
                          args.pause_at)
     if status == 0 and args.archive:
-        from pipeline import archive
-        archive.collect(args.dir, Path(args.archive) / args.record, args.key,
-                        final_state=args.final_state)
+        record_job(args, fresh)
     if status == 0 and args.marker:
         Path(args.marker).write_text(json.dumps({"t": checkpoint_time(args.dir)}) + "\n")
     return status

@@ -13,38 +13,53 @@ differ in more than these (the accuracy study: Ewald tolerance, time scheme, len
 sensitivity study: the membrane always named) names them itself (RunSpec.label).
 
 The provenance key is a hash of the physics version (solver/PHYSICS_VERSION) and every
-option that changes the trajectory. t_end and t_avg_start are left out: a record that
-reached t_end = 20 is the first part of the same run to t_end = 30, and t_avg_start changes
-only the averages of summary.json. threads and backend are left out too: they change the
-last bits of the floating-point reductions, not the physics (a record says which it used).
-An option whose capsim default changed since physics version 1 (CHANGED_DEFAULTS) enters
-the key by the value the run takes, and only where that is not the old default: a run
-that pins the old value keeps its records, one that takes the new default is new.
+option of the run as capsim resolves it (`capsim params --json`, the values run.yaml
+holds), so that a default changed in the solver's table changes the key of every run that
+takes it. Left out: t_end and t_avg_start (a record that reached t_end = 20 is the first
+part of the same run to t_end = 30, and t_avg_start changes only the averages of
+summary.json), threads and backend (they change the last bits of the floating-point
+reductions, not the physics; a record says which it used), and, for a dilute run, the
+options it does not use (the periodic sums, the suspension's, the seed). The key of an
+archived record is computed the same way from the options it stores (options_key()).
 """
 
 import dataclasses
+import functools
 import hashlib
 import json
 import math
+import subprocess
 from pathlib import Path
 
 from analysis import membrane as membrane_codes
 from analysis.accuracy import time_options
-from pipeline.command_line import option_value
+from pipeline.command_line import option_value, set_arguments
 
 ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
 
-# The options whose capsim default changed since physics version 1: (the default then, the
-# default now, whether a dilute run uses it). Measured to hold the accuracy at less cost
-# per step (docs/performance.md, "The defaults of precision and quadrature");
-# tests/python/test_archive.py checks "now" against `capsim params`.
-CHANGED_DEFAULTS = {
-    "ewald.precision": ("double", "auto", False),
-    "quadrature.near_ratio": (1.5, 1, True),
-    "quadrature.far_ratio": (2, 1.5, True),
-    "ewald.real_space_precision": ("double", "auto", False),
+# The options whose capsim default changed since physics version 1, with the default then:
+# a run that pins none of them there takes the present ones, which cost less per step
+# (docs/performance.md, "The defaults of precision and quadrature"; seconds_per_strain).
+FORMER_DEFAULTS = {
+    "ewald.precision": "double",
+    "quadrature.near_ratio": 1.5,
+    "quadrature.far_ratio": 2,
+    "ewald.real_space_precision": "double",
 }
+
+# The options capsim gained after runs had been recorded, with the value that every run
+# before them took: a record whose run.yaml lacks one is read with it.
+ADDED_OPTIONS = {
+    "ewald.precision": "double",
+    "ewald.real_space_precision": "double",
+    "time.stages": "4",
+}
+
+# What does not fix the trajectory (see above), and what a dilute run does not use (a key
+# or a prefix of keys).
+NOT_IN_KEY = ("t_end", "t_avg_start", "threads", "backend")
+UNUSED_BY_DILUTE = ("method", "seed", "ewald.", "suspension.")
 
 
 def physics_version():
@@ -58,6 +73,71 @@ def _same_value(given, default):
         return float(given) == float(default)
     except ValueError:
         return given == option_value(default)
+
+
+def _canonical(value):
+    """An option value in one spelling: a number as Python writes the float (27, "27"
+    and 27.0 alike), the rest as capsim's --set spells it."""
+    text = option_value(value)
+    try:
+        return repr(float(text))
+    except ValueError:
+        return text
+
+
+def flat_options(options, prefix=""):
+    """Nested options (run.yaml as YAML reads it) as one level of dotted keys."""
+    out = {}
+    for key, value in options.items():
+        if isinstance(value, dict):
+            out.update(flat_options(value, f"{prefix}{key}."))
+        else:
+            out[prefix + key] = value
+    return out
+
+
+def key_options(options):
+    """The options a key hashes, from a run's resolved options (flat or nested, as
+    run.yaml, summary.json's parameters or `capsim params --json` hold them): every one
+    but NOT_IN_KEY (and UNUSED_BY_DILUTE for phi = 0), ADDED_OPTIONS filled in, in one
+    spelling."""
+    flat = {**ADDED_OPTIONS, **flat_options(options)}
+    dilute = float(flat.get("phi", 0)) == 0
+    return {key: _canonical(value) for key, value in sorted(flat.items())
+            if key not in NOT_IN_KEY and not (dilute and key.startswith(UNUSED_BY_DILUTE))}
+
+
+def options_key(options, version):
+    """The provenance key of a run with these resolved options under a physics version:
+    sha256 (hex) of both."""
+    content = {"physics_version": str(version), "options": key_options(options)}
+    text = json.dumps(content, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def options_differ(got, want):
+    """The options (key_options) where `got` differs from `want`, for a message:
+    "mesh_level 1 (not 3), ..."; "" where none does."""
+    a, b = key_options(got), key_options(want)
+    return ", ".join(f"{k} {a.get(k, '-')} (not {b.get(k, '-')})"
+                     for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k))
+
+
+@functools.cache
+def _resolved(capsim, words):
+    done = subprocess.run([str(capsim), "params", "--json", *words], capture_output=True,
+                          text=True)
+    if done.returncode != 0:
+        raise ValueError(f"{capsim} params --json {' '.join(words)}: "
+                         f"{done.stderr.strip() or f'exit {done.returncode}'}")
+    return json.loads(done.stdout)
+
+
+def resolved_options(capsim, set_words):
+    """The options, flat, that a run started with the `--set KEY=VALUE` words takes, as
+    capsim resolves them (`capsim params --json`, what its run.yaml would hold): the
+    solver's own defaults, never a copy of them."""
+    return dict(_resolved(str(capsim), tuple(set_words)))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -119,29 +199,13 @@ class RunSpec:
         return {**self.trajectory_options(), "t_end": self.t_end,
                 "t_avg_start": self.t_avg_start, "threads": threads}
 
-    def taken(self, name):
-        """The value the run takes for an option of CHANGED_DEFAULTS: as given, or the
-        present default (spelt as capsim is given it)."""
-        return option_value(self.trajectory_options().get(name, CHANGED_DEFAULTS[name][1]))
+    def resolved_options(self, capsim):
+        """The run's options as capsim resolves them (resolved_options())."""
+        return resolved_options(capsim, set_arguments(self.capsim_options(threads=1)))
 
-    def key_options(self):
-        """The options the key hashes: the trajectory options as capsim is given them,
-        with each option of CHANGED_DEFAULTS that the run uses at the value it takes, left
-        out where that is the default of physics version 1 (as every run before the
-        change)."""
-        options = {k: option_value(v) for k, v in self.trajectory_options().items()
-                   if k not in CHANGED_DEFAULTS}
-        for name, (then, _, dilute_uses) in CHANGED_DEFAULTS.items():
-            if (dilute_uses or not self.dilute) and not _same_value(self.taken(name), then):
-                options[name] = self.taken(name)
-        return dict(sorted(options.items()))
-
-    def key(self, version=None):
-        """The provenance key: sha256 of the physics version and key_options() (hex)."""
-        content = {"physics_version": version or physics_version(),
-                   "options": self.key_options()}
-        text = json.dumps(content, sort_keys=True, separators=(",", ":"))
-        return hashlib.sha256(text.encode()).hexdigest()
+    def key(self, capsim, version=None):
+        """The provenance key (options_key()) of the run's resolved options."""
+        return options_key(self.resolved_options(capsim), version or physics_version())
 
     def seconds_per_strain(self):
         """Estimated wall seconds per unit strain on 2 cores (measured on the Table 1
@@ -149,15 +213,17 @@ class RunSpec:
         level 3, M 27, Ca 0.2 17.5 s, level 4 10.8 times that (docs/performance.md),
         bending eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s
         at level 3; all measured with the defaults of physics version 1. A suspension
-        that takes the present ones of CHANGED_DEFAULTS: 0.56 of that, with the present
+        that pins none of FORMER_DEFAULTS: 0.56 of that, with the present
         build: 0.44-0.47 of the cost of 4952f1d's build, benchmarks/records/
         build_compare_defaults.json, whose step was 1.22-1.26 times the profile's,
         build_compare.json)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
-        present = not self.dilute and all(_same_value(self.taken(name), now)
-                                          for name, (_, now, _) in CHANGED_DEFAULTS.items())
+        given = self.trajectory_options()
+        present = not self.dilute and not any(
+            name in given and _same_value(option_value(given[name]), then)
+            for name, then in FORMER_DEFAULTS.items())
         return base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
 
     def segment_ends(self, minutes=None, strain=None):

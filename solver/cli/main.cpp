@@ -4,6 +4,7 @@
 #include "dynamics/flow.hpp"
 #include "dynamics/simulation_error.hpp"
 #include "io/json_writer.hpp"
+#include "run/automatic_settings.hpp"
 #include "run/backend_selftest.hpp"
 #include "run/bench.hpp"
 #include "run/multipole_error.hpp"
@@ -67,6 +68,43 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "near corrections, real space, spreading, FFT, gathering, volume "
                   "constraint, sampling, checkpoints, ...) to this JSON file")
       ->type_name("FILE");
+}
+
+struct ParamsArgs {
+  bool json = false;
+  std::vector<std::string> sets;
+};
+
+CLI::App* add_params_command(CLI::App& app, ParamsArgs& a) {
+  CLI::App* params = app.add_subcommand(
+      "params", "List every run-file key with its default and allowed range (Markdown)");
+  params->add_flag("--json", a.json,
+                   "print instead every key with the value a run takes, as JSON: the "
+                   "defaults with the --set keys applied and the automatic tolerances "
+                   "resolved, as run.yaml would hold them");
+  params->add_option("--set", a.sets, "with --json: a key as `capsim run --set` takes it")
+      ->type_name("KEY=VALUE");
+  return params;
+}
+
+// The workflow's results archive compares a run's options with what this prints, so
+// that a default changed in the solver's table is seen (pipeline/run_spec.py).
+int params_command(const ParamsArgs& a) {
+  if (!a.json) {
+    if (!a.sets.empty())
+      throw capsim::ConfigError("params: --set needs --json");
+    std::cout << capsim::parameter_table_markdown();
+    return 0;
+  }
+  capsim::RunOptions o = capsim::parse_run_options("", a.sets, "--set");
+  capsim::resolve_automatic_settings(o, true);
+  capsim::JsonWriter json;
+  json.begin_object();
+  for (const auto& [key, value] : capsim::flat_values(o))
+    json.field(key, value);
+  json.end_object();
+  std::cout << json.str();
+  return 0;
 }
 
 struct GreensArgs {
@@ -317,9 +355,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   RunArgs run_args;
   add_run_command(app, run_args);
-  CLI::App* params =
-      app.add_subcommand("params", "List every run-file key with its default "
-                                   "and allowed range (Markdown)");
+  ParamsArgs params_args;
+  CLI::App* params = add_params_command(app, params_args);
   GreensArgs greens_args;
   add_greens_command(app, greens_args);
   MultipoleArgs multipole_args;
@@ -345,10 +382,8 @@ int main(int argc, char** argv) {
       return multipole_command(multipole_args);
     if (app.got_subcommand("bench"))
       return bench_command(bench_args);
-    if (params->parsed()) {
-      std::cout << capsim::parameter_table_markdown();
-      return 0;
-    }
+    if (params->parsed())
+      return params_command(params_args);
     return run_command(run_args);
   } catch (const capsim::ConfigError& e) {
     std::fprintf(stderr, "capsim: error: %s\n", e.what());

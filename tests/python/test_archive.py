@@ -15,14 +15,25 @@ in temporary folders:
 - replaying the last segment from a record's state gives its archived rows to the last
   bit (same thread count, so the same reductions in the same order);
 - a record whose file, record.json or format was changed is refused, naming it, by the
-  archive and by the workflow.
+  archive and by the workflow;
+- the eight ways of issue 45 to make the archive present old or foreign results as
+  current, each refused with a message naming the record or folder, or handled: a dry run
+  writes nothing and rewrites no record of another physics version or other options; a
+  folder or record of another run is not recorded or used; concurrent restores leave
+  every run equal to the archive; only the files a record lists are restored; a folder of
+  the archive without record.json is named; the key follows the solver's own defaults;
+  an archive path with a space, an archive that cannot be written and an empty
+  summary.json; a killed attempt's CPU time in the segments.
 
-About 30 s on 2 cores. Skipped when build/capsim or snakemake is missing."""
+The archive of these runs lies in a folder whose path holds a space. About a minute on 2
+cores. Skipped when build/capsim or snakemake is missing."""
 
-import hashlib
 import json
 import shutil
 import subprocess
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -30,8 +41,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from pipeline import archive, run_spec
-from pipeline.command_line import option_value
+from pipeline import archive, job, run_spec
 from pipeline.run_spec import RunSpec
 
 from test_workflow_ci import CAPSIM, ROOT, SNAKEMAKE, pytestmark  # noqa: F401 (the skips)
@@ -88,7 +98,7 @@ def assert_same_figure_data(workdir, reference):
 def study(tmp_path_factory):
     """Runs the study three ways; returns their folders and the archive."""
     base = tmp_path_factory.mktemp("archive_study")
-    store = base / "archive"
+    store = base / "the archive"  # a space: every job's command must quote it
     with_archive = {**STUDY, "archive": str(store)}
     plain = snakemake(base / "plain", {**STUDY, "segments": {"strain": None,
                                                              "minutes": None}}, FIGURE)
@@ -130,7 +140,7 @@ def test_a_stopped_segmented_run_continues_from_the_archive_to_the_same_bits(stu
 
 def test_a_fresh_directory_restores_every_run_and_the_same_figure_data(study):
     assert run_jobs(study["restored_dry"]) == {}
-    assert "2 run(s) restored whole" in study["restored_dry"]
+    assert "2 run(s) to restore whole" in study["restored_dry"]
     assert_same_figure_data(study["base"] / "restored", study["base"] / "plain")
 
 
@@ -171,21 +181,19 @@ def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
     it) and continues each unfinished one. Once every run is there, the quantitative
     figure data regenerate from the archive and pass their check against the paper."""
     store = ROOT / "archive" / "quantitative"
-    records = [archive.read_record(path) for path in archive._records([store])] \
-        if store.exists() else []
-    if not records:
-        pytest.skip("archive/quantitative holds no record yet")
+    assert archive.orphans(store) == []
+    records = [archive.read_record(path) for path in archive._records([store])]
+    finished = sum(r["finished"] for r in records)
+    assert len(records) == finished == 45 + 21, "archive/quantitative is incomplete"
     exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
     dry = subprocess.run([exe, "--snakefile", str(ROOT / "Snakefile"), "--directory",
                           str(tmp_path), "-n", "all", "check", "--configfile",
                           str(ROOT / "config" / "quantitative.yaml")],
                          capture_output=True, text=True, timeout=600)
     assert dry.returncode == 0, dry.stdout[-3000:] + dry.stderr[-3000:]
-    assert "stale" not in dry.stderr and "other options" not in dry.stderr
-    finished = sum(r["finished"] for r in records)
-    assert run_jobs(dry.stdout).get("run", 0) == 45 + 21 - finished
-    if finished < 45 + 21:
-        return
+    assert "physics version" not in dry.stderr and "other options" not in dry.stderr
+    assert run_jobs(dry.stdout).get("run", 0) == 0
+    assert "main studies: 0 of 66 runs to compute" in dry.stderr
     # Complete: the figures, Table 1, the comparison with the paper and the check come
     # from the archive alone, and the check (config/expected/paper.yaml) passes.
     full = subprocess.run([exe, "--cores", "2", "--snakefile", str(ROOT / "Snakefile"),
@@ -209,60 +217,245 @@ def test_a_quantitative_record_replays_a_stretch_to_its_rounding():
         if record["state_time"] is not None and record["state_time"] < record["t_reached"]:
             options = record["options"]
             candidates.append((options["capsules"] * 4 ** options["mesh_level"], path))
-    if not candidates:
-        pytest.skip("no record of archive/quantitative keeps a state before its end yet")
+    assert candidates, "no record of archive/quantitative keeps a state before its end"
     rows, difference = archive.replay(min(candidates)[1], CAPSIM, span=0.1)
     assert rows >= 1 and difference <= archive.ROUNDING_UNITS
 
 
-def test_a_run_recorded_only_once_it_has_left_its_start(tmp_path, monkeypatch):
+def test_a_run_is_recorded_only_once_it_has_left_its_start(tmp_path, monkeypatch):
     # A folder holding only the checkpoint of t = 0 (a run started, then stopped at
-    # once) has nothing to keep; one past it is recorded.
+    # once) has nothing to keep; one past it is recorded by its next job.
     spec = RunSpec(study="initial", ca=0.4, level=1, t_end=0.6, t_avg_start=0.1, phi=0.2,
                    M=2)
-    recorded = []
-    monkeypatch.setattr(archive, "collect", lambda run_dir, *a, **k: recorded.append(run_dir))
     for t, want in ((0.0, []), (0.2, [spec.folder])):
         monkeypatch.setattr(archive, "reached", lambda run_dir, t=t: (False, t))
-        report = archive.sync([spec], tmp_path / "archive", lambda s: [s.t_end],
-                              workdir=tmp_path)
-        assert report["recorded"] == want
-    assert len(recorded) == 1
+        plan = archive.plan([spec], tmp_path / "archive", lambda s: {},
+                            lambda s: [s.t_end], workdir=tmp_path)
+        assert plan["ahead"] == want
 
 
-def test_changed_defaults_are_capsim_s_present_ones():
-    # CHANGED_DEFAULTS says what capsim's defaults are now: `capsim params` agrees.
-    listed = subprocess.run([str(CAPSIM), "params"], capture_output=True, text=True,
-                            check=True).stdout
-    defaults = {row.split("|")[1].strip(" `"): row.split("|")[2].strip()
-                for row in listed.splitlines() if row.startswith("| `")}
-    for name, (_, now, _) in run_spec.CHANGED_DEFAULTS.items():
-        assert run_spec._same_value(defaults[name], now), name
+# Issue 45: the ways to make the archive present old or foreign results as current.
+
+def tree(folder):
+    """{path: bytes} of every file under a folder."""
+    return {str(p.relative_to(folder)): p.read_bytes()
+            for p in sorted(Path(folder).rglob("*")) if p.is_file()}
 
 
-def test_a_run_that_pins_the_old_defaults_keeps_its_key():
-    # The key of a run as it was before the defaults changed (every option as given, none
-    # of CHANGED_DEFAULTS among them) is that of the same run pinning the old values; a
-    # run that takes the new defaults, or other values, has another key.
-    def key_before(spec):
-        options = {k: option_value(v) for k, v in sorted(spec.trajectory_options().items())}
-        text = json.dumps({"physics_version": run_spec.physics_version(),
-                           "options": options}, sort_keys=True, separators=(",", ":"))
-        return hashlib.sha256(text.encode()).hexdigest()
+def copied_store(study, tmp_path):
+    store = tmp_path / "archive"
+    shutil.copytree(study["store"], store)
+    return store
 
-    base = {"study": "grid", "ca": 0.2, "level": 3, "t_end": 30, "t_avg_start": 10,
-            "phi": 0.3, "M": 27}
-    given = (("ewald.tolerance", "auto"),)
-    old = tuple(sorted({**dict(given), **{name: then for name, (then, _, _)
-                                         in run_spec.CHANGED_DEFAULTS.items()}}.items()))
-    before = key_before(RunSpec(**base, options=given))
-    assert RunSpec(**base, options=old).key() == before
-    assert RunSpec(**base, options=given).key() != before
-    assert RunSpec(**base, options=old + (("quadrature.max_depth", 7),)).key() != before
-    single = tuple(sorted({**dict(old), "ewald.precision": "single"}.items()))
-    assert RunSpec(**base, options=single).key() != before
-    # A dilute run has no grids: the precision is not in its key; the quadrature is.
-    dilute = {"study": "dilute", "ca": 0.2, "level": 3, "t_end": 20, "t_avg_start": 10}
-    quadrature = (("quadrature.far_ratio", 2), ("quadrature.near_ratio", 1.5))
-    assert RunSpec(**dilute, options=quadrature).key() == key_before(RunSpec(**dilute))
-    assert RunSpec(**dilute).key() != key_before(RunSpec(**dilute))
+
+def record_dir_of(store, k):
+    return store / "initial" / RUNS[k].split("/")[-1]
+
+
+def forge(record_dir, change):
+    """Edits record.json as a careful hand would: `change(record)`, then the key, the
+    files' sha256 and the checksum made to agree."""
+    record = json.loads((record_dir / "record.json").read_text())
+    change(record)
+    record["key"] = run_spec.options_key(record["options"], record["physics_version"])
+    record["files"] = {name: archive.sha256(record_dir / name) for name in record["files"]}
+    record["checksum"] = archive._content_checksum(record)
+    (record_dir / "record.json").write_text(json.dumps(record, indent=1, sort_keys=True))
+
+
+def study_spec():
+    """The RunSpec of the first run, as the workflow makes it (config/config.yaml's
+    run_options under the study's)."""
+    return run_spec.suspension("initial", {"ca": 0.4, "phi": 0.2, "M": 2, "level": 1,
+                                           "seed": 1}, STUDY["initial"], 0.1,
+                               {"ewald.tolerance": "auto", **STUDY["run_options"]})
+
+
+def stored_options(study, k=0):
+    """The resolved options of run k: those of this configuration."""
+    return archive.read_record(record_dir_of(study["store"], k))["options"]
+
+
+def verify(*paths):
+    return subprocess.run([sys.executable, "-m", "pipeline.archive", "verify",
+                           *map(str, paths)], capture_output=True, text=True, cwd=ROOT)
+
+
+def test_case1_a_dry_run_writes_nothing_and_keeps_records_of_another_run(study, tmp_path):
+    store = copied_store(study, tmp_path)
+    old = record_dir_of(store, 0)
+    forge(old, lambda r: r.update(physics_version="0"))
+    before = tree(store)
+    config = {**study["config"], "archive": str(store),
+              "run_options": {**STUDY["run_options"], "dt_safety": 0.05}}
+    dry = snakemake(tmp_path / "work", config, FIGURE, dry=True)
+    out = dry.stdout + dry.stderr
+    assert dry.returncode == 0, out[-3000:]
+    assert "1 record(s) of another physics version" in out
+    assert "1 record(s) with other options than this configuration's" in out
+    assert "git rm -r" in out
+    assert run_jobs(dry.stdout) == {"run_segment": 4, "run": 2}  # both computed anew
+    assert tree(store) == before, "a dry run changed the archive"
+    assert not (tmp_path / "work" / "results").exists(), "a dry run wrote results/"
+    # Recording over it is refused, naming the record and what to do; it stays as it is.
+    with pytest.raises(archive.ArchiveError, match=r"physics version 0.*git rm -r"):
+        archive.collect(study["base"] / "restored" / RUNS[0], old, stored_options(study))
+    assert tree(store) == before
+
+
+def test_case2_a_folder_or_record_of_another_run_is_refused(study, tmp_path):
+    want = stored_options(study)
+    store = copied_store(study, tmp_path)
+    record_dir = record_dir_of(store, 0)
+    before = tree(store)
+    # A run made with another mesh in this run's folder: neither recorded nor used.
+    run_dir = tmp_path / RUNS[0]
+    shutil.copytree(study["base"] / "restored" / RUNS[0], run_dir)
+    (run_dir / "run.yaml").write_text(
+        (run_dir / "run.yaml").read_text().replace("mesh_level: 1", "mesh_level: 2"))
+    with pytest.raises(archive.ArchiveError, match=rf"{run_dir} holds another run.*mesh_lev"):
+        archive.collect(run_dir, record_dir, want)
+    spec = study_spec()
+    with pytest.raises(archive.ArchiveError, match=rf"{run_dir} holds another run"):
+        archive.plan([spec], store, lambda s: want, lambda s: [0.2, 0.4, 0.6],
+                     workdir=tmp_path)
+    assert tree(store) == before
+    # Another run's files copied into the record, its checksums made to agree.
+    other = record_dir_of(store, 1)
+    for name in ("run.yaml", "timeseries.h5", "summary.json"):
+        shutil.copyfile(other / name, record_dir / name)
+    forge(record_dir, lambda r: None)
+    with pytest.raises(archive.ArchiveError, match=rf"{record_dir}: run.yaml is not the"):
+        archive.read_record(record_dir)
+    # ... and its options too: the state is still this run's.
+    forge(record_dir, lambda r: r.update(options=archive.read_record(other)["options"]))
+    with pytest.raises(archive.ArchiveError,
+                       match=rf"{record_dir}: state.h5 is of another run.*seed"):
+        archive.read_record(record_dir)
+
+
+def _restore(args):
+    return archive.restore_run(*args)
+
+
+def test_case3_concurrent_restores_leave_every_run_equal_to_the_archive(study, tmp_path):
+    record_dir, want = record_dir_of(study["store"], 0), stored_options(study)
+    run_dir = tmp_path / RUNS[0]
+    with ProcessPoolExecutor(4) as pool:
+        done = list(pool.map(_restore, [(record_dir, run_dir, want)] * 4))
+    assert sum(done) == 1  # one restored it, the others found it whole
+    reference = series(study["base"] / "restored" / RUNS[0])
+    restored = series(run_dir)
+    assert reference.keys() == restored.keys()
+    for name in reference:
+        np.testing.assert_array_equal(reference[name], restored[name], err_msg=name)
+    archive.check_folder(run_dir, want)
+    assert [p.name for p in run_dir.parent.iterdir()] == [run_dir.name]  # no leftovers
+    # A restored file damaged later: the folder does not count as finished.
+    (run_dir / "timeseries.h5").write_bytes(b"")
+    with pytest.raises(archive.ArchiveError,
+                       match=rf"{run_dir}: timeseries.h5 is not as restored.*rm -r"):
+        archive.check_folder(run_dir, want)
+    # A folder left with summary.json alone: named, with what to do.
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    shutil.copyfile(study["base"] / "restored" / RUNS[0] / "summary.json",
+                    alone / "summary.json")
+    with pytest.raises(archive.ArchiveError, match=rf"{alone} is damaged.*missing.*rm -r"):
+        archive.reached(alone)
+
+
+def test_case4_only_the_files_a_record_lists_are_restored(study, tmp_path):
+    store = copied_store(study, tmp_path)
+    record_dir = record_dir_of(store, 0)
+    (record_dir / "snapshot_000099.h5").write_bytes(b"xx")
+    with pytest.raises(archive.ArchiveError,
+                       match=rf"{record_dir}: holds snapshot_000099.h5, which record.json"):
+        archive.read_record(record_dir)
+    checked = verify(store)
+    assert checked.returncode == 1 and "snapshot_000099.h5" in checked.stderr
+    (record_dir / "snapshot_000099.h5").unlink()
+    run_dir = tmp_path / "run"
+    archive.restore(record_dir, run_dir, archive.read_record(record_dir), full=True)
+    assert sorted(p.name for p in run_dir.iterdir()) == [
+        "checkpoint.h5", "restored.json", "run.yaml", "segments.json", "summary.json",
+        "timeseries.h5"]
+
+
+def test_case5_a_folder_of_the_archive_without_record_json_is_named(study, tmp_path):
+    store = copied_store(study, tmp_path)
+    record_dir = record_dir_of(store, 1)
+    (record_dir / "record.json").unlink()
+    checked = verify(store)
+    assert checked.returncode == 1
+    assert f"{record_dir} holds no record.json" in checked.stderr
+    dry = snakemake(tmp_path / "work", {**study["config"], "archive": str(store)}, FIGURE,
+                    dry=True)
+    assert dry.returncode != 0
+    assert f"{record_dir} holds no record.json" in dry.stdout + dry.stderr
+
+
+def test_case6_the_key_follows_the_solver_s_own_defaults(study):
+    record = archive.read_record(record_dir_of(study["store"], 0))
+    spec = study_spec()
+    resolved = spec.resolved_options(CAPSIM)
+    assert spec.key(CAPSIM) == record["key"] and archive.usable(record, resolved) == "full"
+    # `capsim params --json` is the solver's table of defaults, as `capsim params` shows.
+    table = subprocess.run([str(CAPSIM), "params"], capture_output=True, text=True,
+                           check=True).stdout
+    shown = {row.split("|")[1].strip(" `"): row.split("|")[2].strip()
+             for row in table.splitlines() if row.startswith("| `")}
+    assert run_spec.resolved_options(CAPSIM, []) == shown
+    # A default changed in the solver: the record is no longer this run's.
+    assert archive.usable(record, {**resolved, "quadrature.max_depth": "7"}) == "changed"
+    # One spelling; an option added since is read at the value runs took before it.
+    assert run_spec.options_key({**resolved, "dt_safety": "0.10"}, "1") == \
+        run_spec.options_key({**resolved, "dt_safety": 0.1}, "1")
+    before = {k: v for k, v in resolved.items() if k != "time.stages"}
+    assert run_spec.options_key(before, "1") == run_spec.options_key(resolved, "1")
+    # A dilute run does not use the periodic sums: they are not in its key.
+    dilute = run_spec.resolved_options(CAPSIM, [])
+    assert run_spec.options_key({**dilute, "ewald.precision": "single"}, "1") == \
+        run_spec.options_key(dilute, "1")
+
+
+def test_case7_a_space_in_the_path_an_unwritable_archive_an_empty_summary(
+        study, tmp_path, monkeypatch):
+    # Every job recorded into the fixture's archive, whose path holds a space.
+    assert " " in str(study["store"]) and len(archive.read_records([study["store"]])) == 2
+    # An archive that cannot be written: the job says so and succeeds (the run is kept).
+    run_dir = tmp_path / "run"
+    shutil.copytree(study["base"] / "restored" / RUNS[0], run_dir)
+
+    def unwritable(*args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(study["store"]))
+
+    monkeypatch.setattr(archive, "collect", unwritable)
+    log = tmp_path / "job.log"
+    status = job.main(["--capsim", str(CAPSIM), "--dir", str(run_dir), "--log", str(log),
+                       "--pause-at", "0.2", "--archive", str(study["store"]), "--record",
+                       "initial/x", "--", "--set", "ca=0.4"])
+    assert status == 0 and "NOT RECORDED" in log.read_text()
+    assert "Permission denied" in log.read_text()
+    # An empty summary.json: named, with what to do.
+    (run_dir / "summary.json").write_text("")
+    with pytest.raises(archive.ArchiveError, match=rf"{run_dir} is damaged.*rm -r"):
+        archive.reached(run_dir)
+
+
+def test_case8_a_killed_attempt_s_cpu_time_is_in_the_segments(tmp_path):
+    fake = tmp_path / "capsim"
+    fake.write_text(f"#!{sys.executable}\n"
+                    "import os, signal, time\n"
+                    "start = time.process_time()\n"
+                    "while time.process_time() - start < 0.3:\n"
+                    "    pass\n"
+                    "os.kill(os.getpid(), signal.SIGKILL)\n")
+    fake.chmod(0o755)
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    status = job.run_job(str(fake), run_dir, tmp_path / "run.log", ["--set", "ca=0.4"], [])
+    assert status == 128 + 9
+    segments = json.loads((run_dir / "segments.json").read_text())
+    assert len(segments) == 1 and segments[0]["cpu_seconds"] >= 0.25
+    assert segments[0]["ended"] == "killed by signal 9 (SIGKILL)"

@@ -5,7 +5,8 @@
 # segment and a cluster job fits its wall-time limit; the chain ends exactly where the
 # unbroken run would. The last segment writes summary.json. With config archive, every
 # segment is recorded in the results archive as soon as it is done (pipeline.archive),
-# and the Snakefile restores from there what was computed before.
+# and the rules of archive.smk restore from there what was computed before: jobs, so that
+# a dry run writes nothing and Snakemake's lock covers them.
 #
 # The solver is an input only to be built first: ancient() keeps a rebuilt binary from
 # re-running finished runs (a physics change bumps solver/PHYSICS_VERSION, which makes
@@ -19,11 +20,13 @@
 # the figures name it; later segments of a stopped run run nothing.
 
 
-def run_job(wc, threads, pause=None):
-    """The command of one segment (pause: its end) or of the last (pause None)."""
+def run_job(wc, threads, pause=None, restore=False):
+    """The command of one segment (pause: its end) or of the last (pause None); with
+    `restore` the job that restores it from the archive instead."""
     spec = run_of(wc.study, wc.run)
     segment = "" if pause is None else f".segment{wc.k}"
-    log = os.path.join("results", "logs", wc.study, f"{wc.run}{segment}.log")
+    log = os.path.join("results", "logs", wc.study,
+                       f"{wc.run}{'.restore' if restore else ''}{segment}.log")
     words = [PYTHON, "-m", "pipeline.job", "--capsim", CAPSIM, "--dir", spec.folder,
              "--log", log, "--resume-set", f"threads={threads}",
              "--resume-set", f"t_end={spec.t_end}",
@@ -34,9 +37,10 @@ def run_job(wc, threads, pause=None):
         words += ["--pause-at", str(pause), "--marker",
                   str(archive.marker(spec.folder, int(wc.k)))]
     if ARCHIVE:
-        words += ["--archive", ARCHIVE, "--record", f"{spec.study}/{spec.name}",
-                  "--key", spec.key()] + (["--final-state"] if spec.dilute else [])
-    return " ".join(words) + " -- " + set_options(spec.capsim_options(threads))
+        words += ["--archive", ARCHIVE, "--record", f"{spec.study}/{spec.name}"]
+        words += (["--final-state"] if spec.dilute else []) + (["--restore"] if restore
+                                                               else [])
+    return shlex.join(words + ["--"] + set_arguments(spec.capsim_options(threads)))
 
 
 def run_resource(wc, what):
