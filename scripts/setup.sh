@@ -3,8 +3,8 @@
 # and skips itself when there is nothing to do.
 #
 #   1. Debian packages (compilers, CMake, Ninja, Eigen, HDF5, FFTW, yaml-cpp, CLI11, Catch2,
-#      Thrust, and python3-venv where `python3 -m venv` would not work): installed only if
-#      missing.
+#      Thrust, SLURM and munge for the one-node SLURM test, and python3-venv where
+#      `python3 -m venv` would not work): installed only if missing.
 #   2. .venv/ with the pinned requirements.txt and the analysis package (pyproject.toml,
 #      editable: `pip install -e .`): made again whenever either file changes.
 #   3. build/: CMake Release build of the solver (with the CUDA backend where nvcc is
@@ -26,8 +26,13 @@ BUILD_DIR=build
 VENV=.venv
 STAMP="$VENV/requirements.sha256"
 # libthrust-dev: the Thrust headers for the CPU emulation of the CUDA backend (test.sh).
+# munge slurmctld slurmd slurm-client: the one-node SLURM that tests/python/test_slurm.py
+# starts (with its own munge key and slurm.conf) and stops again, to run the SLURM profile
+# against; the system's slurmctld and slurmd services start only where an
+# /etc/slurm/slurm.conf exists, which the installation does not write.
 APT_PACKAGES=(build-essential cmake ninja-build pkg-config libeigen3-dev libhdf5-dev
-  libfftw3-dev libyaml-cpp-dev libcli11-dev catch2 libthrust-dev)
+  libfftw3-dev libyaml-cpp-dev libcli11-dev catch2 libthrust-dev
+  munge slurmctld slurmd slurm-client)
 
 log() { printf 'setup: %s\n' "$*"; }
 die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
