@@ -38,21 +38,20 @@ include: "workflow/rules/initial.smk"
 include: "workflow/rules/boxsize.smk"
 include: "workflow/rules/multipole.smk"
 include: "workflow/rules/snapshots.smk"
+include: "workflow/rules/reference.smk"
+include: "workflow/rules/eblimit.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/checks.smk"
 include: "workflow/rules/accuracy.smk"
 include: "workflow/rules/sensitivity.smk"
 
-# Before anything is scheduled: runs that the archive holds further than results/ are
-# restored, and runs that results/ holds further than the archive are recorded.
+# Read only (a dry run writes nothing): what the archive restores, what it keeps and does
+# not use, and how many runs are left to compute; the restores are jobs (archive.smk).
 RUNS = configuration_runs()
-if ARCHIVE:
-    try:
-        report_archive(archive.sync(RUNS.values(), ARCHIVE, segment_ends))
-    except archive.ArchiveError as e:
-        raise WorkflowError(f"{e}: refused. Restore it from git (git checkout -- "
-                            "<record>) or delete it to compute the run anew.")
-report_remaining(main_runs().values())
+report_before_scheduling()
+
+
+include: "workflow/rules/archive.smk"
 
 
 rule all:

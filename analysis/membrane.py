@@ -11,9 +11,13 @@ between capsules or another time scheme:
     wrinkling             --set membrane.wrinkling=true
     eb<value>             --set membrane.bending=<value>, 0 < value <= 1 (capsim's range)
     rep<value>            --set suspension.repulsion_force=<value>, 0 < value <= 100
+    consistent            --set membrane.load=consistent --set dt_safety=0.2
     imex                  --set time.scheme=imex --set time.tolerance=auto
 
-joined by "+", e.g. wrinkling+eb0.01, eb0.025+rep5 or eb0.01+imex. rep is for the dense
+joined by "+", e.g. wrinkling+eb0.01, eb0.025+rep5, rep5+consistent or eb0.01+imex.
+consistent is the load mapping that carries the paper's membrane where the lumped one
+folds (docs/suspensions.md, "The paper's membrane by the consistent load"), at the step it
+needs; like the repulsion and the time scheme it is not part of the membrane. rep is for the dense
 points whose capsules come into contact at the configuration's repulsion
 (docs/suspensions.md, "Hard cases"); it overrides run_options' suspension.repulsion_force
 for that run only. The canonical spelling (canonical()) orders the tokens as above and
@@ -30,15 +34,15 @@ import re
 # in the configuration is found at once.
 CONFIG_KEY = "sensitivity.membranes"
 ALLOWED = ("paper (alone), or wrinkling, eb<kb/(Gs a^2), 0 < eb <= 1>, rep<F0 in "
-           "mu gammadot a^2, 0 < F0 <= 100> and imex joined by + (e.g. wrinkling, eb0.05, "
-           "wrinkling+eb0.01, eb0.025+rep5, eb0.01+imex)")
+           "mu gammadot a^2, 0 < F0 <= 100>, consistent and imex joined by + (e.g. "
+           "wrinkling, eb0.05, wrinkling+eb0.01, eb0.025+rep5, consistent, eb0.01+imex)")
 PAPER = "paper"
 # The tokens with a value: the value's name in errors, the upper end of capsim's range
 # (0, high] (run_options.cpp checks it again) and what to write instead of a zero.
 VALUED = {"eb": ("bending modulus", 1.0, "eb0 is the paper's membrane: write paper"),
           "rep": ("repulsion force", 100.0, "leave rep out for run_options' repulsion")}
 VALUE = re.compile(r"^(eb|rep)([0-9.eE+-]+)$")
-ORDER = ("wrinkling", "eb", "rep", "imex")  # the canonical order of the tokens
+ORDER = ("wrinkling", "eb", "rep", "consistent", "imex")  # the canonical order of the tokens
 
 
 def parse(code, key=CONFIG_KEY):
@@ -68,7 +72,7 @@ def parse(code, key=CONFIG_KEY):
             if not math.isfinite(value) or value <= 0 or value > high:
                 raise _error(code, f"has a {what} {text} outside 0 < {name} <= {high:g} "
                                    f"({instead})")
-        elif token in ("wrinkling", "imex"):
+        elif token in ("wrinkling", "consistent", "imex"):
             name, value = token, True
         else:
             raise _error(code, f"has an unknown token '{token}'")
@@ -78,17 +82,18 @@ def parse(code, key=CONFIG_KEY):
     return tokens
 
 
-def _spell(tokens):
+def spell(tokens):
+    """A code from parsed tokens (parse()'s inverse, in the canonical spelling)."""
     words = [f"{key}{tokens[key]:g}" if key in VALUED else key for key in ORDER
              if key in tokens]
     return "+".join(words) if words else PAPER
 
 
 def canonical(code, key=CONFIG_KEY):
-    """The code in its canonical spelling: tokens in the order wrinkling, eb, rep, imex;
-    values with %g (eb0.050+wrinkling -> wrinkling+eb0.05). A bad code raises ValueError
-    naming `key`."""
-    return _spell(parse(code, key))
+    """The code in its canonical spelling: tokens in the order wrinkling, eb, rep,
+    consistent, imex; values with %g (eb0.050+wrinkling -> wrinkling+eb0.05). A bad code
+    raises ValueError naming `key`."""
+    return spell(parse(code, key))
 
 
 def options(code):
@@ -101,6 +106,10 @@ def options(code):
         out.append(f"membrane.bending={tokens['eb']:g}")
     if "rep" in tokens:
         out.append(f"suspension.repulsion_force={tokens['rep']:g}")
+    if "consistent" in tokens:
+        # The consistent mass-matrix solve is stable only at a fifth of Heun's step
+        # (capsim refuses more: docs/usage.md).
+        out += ["membrane.load=consistent", "dt_safety=0.2"]
     if "imex" in tokens:
         # imex at the tolerance whose time error is a tenth of the mesh error
         # (time.tolerance auto, docs/method.md).
@@ -109,9 +118,11 @@ def options(code):
 
 
 def membrane_part(code):
-    """The membrane of a code without its repulsion and time scheme (eb0.01+rep5+imex ->
-    eb0.01): what code_from_parameters reads back from the run."""
-    return _spell({k: v for k, v in parse(code).items() if k not in ("rep", "imex")})
+    """The membrane of a code without its repulsion, load mapping and time scheme
+    (eb0.01+rep5+consistent+imex -> eb0.01): what code_from_parameters reads back from the
+    run."""
+    return spell({k: v for k, v in parse(code).items()
+                  if k not in ("rep", "consistent", "imex")})
 
 
 def bending(code):
@@ -141,7 +152,7 @@ def code_from_parameters(parameters):
     eb = float(parameters.get("membrane.bending", 0.0) or 0.0)
     if eb > 0:
         tokens["eb"] = eb
-    return _spell(tokens)
+    return spell(tokens)
 
 
 def point_membranes(entries, cas, phis, key):

@@ -34,6 +34,8 @@ def config_block(name="config.yaml"):
     ("wrinkling", ["membrane.wrinkling=true"]),
     ("eb0.05", ["membrane.bending=0.05"]),
     ("eb0.01+imex", ["membrane.bending=0.01", "time.scheme=imex", "time.tolerance=auto"]),
+    ("consistent+rep5", ["suspension.repulsion_force=5", "membrane.load=consistent",
+                         "dt_safety=0.2"]),
     ("eb0.01+wrinkling", ["membrane.wrinkling=true", "membrane.bending=0.01"]),
     ("rep5+eb0.025", ["membrane.bending=0.025", "suspension.repulsion_force=5"]),
 ])
@@ -67,6 +69,7 @@ def test_canonical_spelling():
     assert membrane.membrane_part("eb0.01+imex") == "eb0.01"
     assert membrane.canonical("rep5.0+wrinkling") == "wrinkling+rep5"
     assert membrane.membrane_part("imex+rep5+eb0.025") == "eb0.025"
+    assert membrane.membrane_part("consistent+rep5") == "paper"
 
 
 @pytest.mark.parametrize("parameters, code", [

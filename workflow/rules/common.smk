@@ -7,19 +7,24 @@
 # them in SUSPENSION_STUDIES.
 import functools
 import re
+import shlex
 from modulefinder import ModuleFinder
 
 from analysis import accuracy as accuracy_study
 from analysis import membrane as membrane_codes
 from analysis import sensitivity as sensitivity_study
 from pipeline import archive, results_page, run_spec
-from pipeline.command_line import set_options
+from pipeline.command_line import set_arguments
 
-SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots"]
+SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots", "reference"]
+# Studies that only their own target runs, not `all` (their runs take hours and are
+# archived first): study -> function returning the RunSpecs it makes. The archive restores
+# and records them as any run; the estimate of the main studies leaves them out.
+ON_DEMAND_RUNS = {}
 
 
 wildcard_constraints:
-    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy", "sensitivity"]),
+    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy", "sensitivity", "eblimit"]),
     run=r"(dilute_)?ca[^/]+",  # dilute_: the sensitivity study's dilute runs
     k=r"\d+",
     ca=r"[0-9.eE+-]+",
@@ -29,8 +34,9 @@ wildcard_constraints:
 def suspension_spec(study, keys):
     """The RunSpec of the suspension run of `study` with keys (ca, phi, M, level, seed[,
     membrane]), in its own study folder."""
+    options = {**config["run_options"], **config[study].get("options", {})}
     return run_spec.suspension(study, keys, config[study], config["averages"]["t_start"],
-                               config["run_options"])
+                               options)
 
 
 def run_name(**keys):
@@ -95,6 +101,8 @@ def main_runs():
     use: what the target all needs), by folder."""
     runs = {}
     for study in SUSPENSION_STUDIES:
+        if study in ON_DEMAND_RUNS:
+            continue
         for keys in STUDY_KEYS.get(study, lambda: [])():
             spec = run_owner(study, **keys)
             runs[spec.folder] = spec
@@ -107,8 +115,11 @@ def main_runs():
 
 def configuration_runs():
     """Every run of the configuration's studies, by folder: what the archive restores
-    and records (the main runs, then the accuracy and sensitivity studies')."""
+    and records (the main runs, the on-demand studies', then the accuracy and
+    sensitivity studies')."""
     runs = main_runs()
+    for specs in ON_DEMAND_RUNS.values():
+        runs.update((spec.folder, spec) for spec in specs())
     block = config["accuracy"]
     for setting in accuracy_study.run_names(block).values():
         spec = run_spec.accuracy(setting, block["sample_interval"])
@@ -167,28 +178,68 @@ def figure_script(name):
     return os.path.join(ROOT, "figures", f"{name}.py")
 
 
-def report_archive(report):
-    """One line per kind of what the archive's sync did, on stderr."""
-    words = {"restored": "restored whole", "partial": "restored to continue",
-             "recorded": "recorded from results/", "stale": "stale (another physics "
-             "version: computed anew)", "changed": "with other options (computed anew)"}
-    for kind, folders in report.items():
+@functools.cache
+def archive_plan():
+    """What the archive does for the configuration's runs (pipeline.archive.plan), read
+    only; empty without an archive. Each run's options as capsim resolves them, so the
+    solver must be built."""
+    if not ARCHIVE:
+        return {"restore": {}, "continue": {}, "stale": [], "changed": [], "ahead": []}
+    if not os.path.exists(CAPSIM):
+        raise WorkflowError(f"{CAPSIM} is missing: the archive {config['archive']} checks "
+                            "its records against the solver's options; build it first "
+                            "(bash scripts/setup.sh)")
+    return archive.plan(RUNS.values(), ARCHIVE, lambda spec: spec.resolved_options(CAPSIM),
+                        segment_ends)
+
+
+def report_before_scheduling():
+    """The archive's and the main studies' lines on stderr; a damaged or foreign record, a
+    folder of the archive that is no record or a run folder that holds another run (or
+    cannot be read) stops the workflow here, named, with what to do."""
+    try:
+        report_archive(archive_plan())
+        report_remaining(main_runs().values(), archive_plan())
+    except (archive.ArchiveError, ValueError) as e:
+        raise WorkflowError(str(e))
+
+
+def report_archive(plan):
+    """One line per kind of what the archive does, on stderr."""
+    words = {"restore": "run(s) to restore whole",
+             "continue": "run(s) to restore and continue",
+             "stale": "record(s) of another physics version",
+             "changed": "record(s) with other options than this configuration's",
+             "ahead": "run(s) in results/ that reach further than their record, recorded "
+                      "by their next job (or now by the target record_archive)"}
+    for kind, folders in plan.items():
         if folders:
-            shown = ", ".join(folders[:4]) + (", ..." if len(folders) > 4 else "")
-            print(f"archive {config['archive']}: {len(folders)} run(s) {words[kind]}: "
-                  f"{shown}", file=sys.stderr)
+            folders = list(folders)
+            shown = ", ".join(map(str, folders[:4])) + (", ..." if len(folders) > 4 else "")
+            print(f"archive {config['archive']}: {len(folders)} {words[kind]}: {shown}",
+                  file=sys.stderr)
+    if plan["stale"] or plan["changed"]:
+        print(f"archive {config['archive']}: those records are kept as they are and not "
+              "used: their runs are computed anew into results/ and not recorded; to "
+              "record them, remove the old records (git rm -r <record>)", file=sys.stderr)
 
 
-def report_remaining(runs):
-    """One line on stderr: how many of the main runs results/ does not hold finished,
-    and their estimated wall time on 2 cores from where each stands
-    (RunSpec.seconds_per_strain, within 0.9-1.45 of the CPU time that the quantitative
-    archive's runs took: docs/workflow.md)."""
-    left, seconds = 0, 0.0
+def report_remaining(runs, plan):
+    """One line on stderr: how many of the main runs neither results/ holds finished nor
+    the archive restores whole, and their estimated wall time on 2 cores from where each
+    stands (RunSpec.seconds_per_strain, within 0.9-1.45 of the CPU time that the
+    quantitative archive's runs took: docs/workflow.md)."""
+    left, restored, seconds = 0, 0, 0.0
     for spec in runs:
         state = archive.reached(spec.folder)
-        if state is None or not state[0]:
+        if spec.folder in plan["restore"]:
+            restored += 1
+        elif state is None or not state[0]:
             left += 1
-            seconds += spec.seconds_per_strain() * (spec.t_end - (state[1] if state else 0.0))
-    print(f"main studies: {left} of {len(runs)} runs to compute, about "
+            start = state[1] if state else 0.0
+            if spec.folder in plan["continue"]:
+                start = max(start, segment_ends(spec)[plan["continue"][spec.folder][1] - 1])
+            seconds += spec.seconds_per_strain() * (spec.t_end - start)
+    from_archive = f" ({restored} restored from the archive)" if restored else ""
+    print(f"main studies: {left} of {len(runs)} runs to compute{from_archive}, about "
           f"{seconds / 3600:.1f} h of 2-core wall time (estimated)", file=sys.stderr)
