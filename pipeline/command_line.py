@@ -22,11 +22,6 @@ def set_arguments(options):
             for word in ("--set", f"{key}={option_value(value)}")]
 
 
-def set_options(options):
-    """The same as one string, for a shell command (the workflow's rules)."""
-    return " ".join(set_arguments(options))
-
-
 def run_command(capsim, options, folder, *flags):
     """`capsim run` of a new run in `folder` with the options of a mapping and further
     flags of capsim run (-q, --profile FILE)."""

@@ -17,7 +17,7 @@ from analysis.tables import COLUMNS, run_row, stopped_row
 from analysis.sensitivity import (Run, changes_against_paper, dilute_references,
                                   mark_smallest_eb, plan, run_names)
 from pipeline import run_spec
-from pipeline.command_line import set_options
+from pipeline.command_line import set_arguments
 from test_workflow_ci import ROOT, snakemake, pytestmark  # noqa: F401 (skips without capsim)
 
 sys.path.insert(0, str(ROOT / "figures"))
@@ -47,7 +47,7 @@ def test_a_code_overrides_the_run_options():
     run = Run("suspension", 0.6, 0.4, 3, "eb0.025+rep5", 27, 1, 20.0, (10, 20))
     spec = run_spec.sensitivity(
         run, {"suspension.repulsion_force": 1, "membrane.wrinkling": True}, {})
-    options = set_options(spec.capsim_options(threads=2))
+    options = " ".join(set_arguments(spec.capsim_options(threads=2)))
     assert spec.folder == "results/sensitivity/" + run.name
     assert "--set suspension.repulsion_force=5" in options
     assert "repulsion_force=1" not in options

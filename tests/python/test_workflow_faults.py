@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from pipeline.command_line import set_options
+from pipeline.command_line import set_arguments
 from pipeline.job import run_job
 from analysis.read_run import read_timeseries
 from analysis.tables import read_table
@@ -105,8 +105,9 @@ def wait_for(condition, what, timeout=60):
 def test_run_options_reach_capsim_in_its_spelling(tmp_path):
     # A YAML boolean in run_options (membrane.wrinkling: true) is Python's True, which
     # capsim refuses: every suspension run would stop at once with exit 2.
-    options = set_options({"membrane.wrinkling": True, "ca": 0.2, "mesh_level": 1,
-                           "t_end": 0.01, "t_avg_start": 0, "threads": 1})
+    options = " ".join(set_arguments({"membrane.wrinkling": True, "ca": 0.2,
+                                      "mesh_level": 1, "t_end": 0.01, "t_avg_start": 0,
+                                      "threads": 1}))
     assert "--set membrane.wrinkling=true" in options
     proc = subprocess.run([str(CAPSIM), "run", "-q", "-o", str(tmp_path / "run"),
                            *options.split()], capture_output=True, text=True)
