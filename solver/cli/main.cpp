@@ -210,6 +210,29 @@ int multipole_command(const MultipoleArgs& a) {
   return 0;
 }
 
+// A CLI11 check of an option that takes one of the names of `choices`, with the message
+// of the run keys ("--method: must be one of {spectral, direct, patches}, got 'ewald'").
+template <class E, std::size_t N>
+CLI::Validator one_of(const capsim::Choice<E> (&choices)[N]) {
+  return {[&choices](std::string& s) {
+            for (const capsim::Choice<E>& c : choices)
+              if (s == c.first)
+                return std::string();
+            return "must be one of {" + capsim::choice_list(choices) + "}, got " +
+                   capsim::quoted_for_message(s);
+          },
+          ""};
+}
+
+// --precision and --real-space-precision: a precision as ewald.precision takes it.
+void add_precision_option(CLI::App* b, const std::string& name, capsim::Precision& into,
+                          const std::string& help) {
+  b->add_option_function<std::string>(
+       name, [&into](const std::string& s) { into = capsim::parse_precision(s); }, help)
+      ->default_str(capsim::to_string(into))
+      ->check(CLI::IsMember({"double", "single", "auto"}));
+}
+
 struct BenchArgs {
   capsim::BenchOptions o;
   int threads = 0;
@@ -228,23 +251,23 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
   b->add_option("--phi", a.o.phi, "volume fraction")
       ->capture_default_str()
       ->check(finite_number());
-  b->add_option("--method", a.o.method, "spectral | direct | patches")
-      ->capture_default_str();
-  b->add_option("--patch-level", a.o.patch_level,
+  b->add_option_function<std::string>(
+       "--method",
+       [&a](const std::string& s) { a.o.ewald.method = capsim::parse_ewald_method(s); },
+       "spectral | direct | patches")
+      ->default_str("spectral")
+      ->check(one_of(capsim::kEwaldMethods));
+  b->add_option("--patch-level", a.o.ewald.patch_level,
                 "method patches: icosphere level of the patches (1: P = 80)")
       ->capture_default_str()
       ->check(whole_number());
-  b->add_option("--precision", a.o.precision,
-                "method spectral: its grids and FFTs in double, single or auto precision "
-                "(as ewald.precision, whose default in a run is auto)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"double", "single", "auto"}));
-  b->add_option("--real-space-precision", a.o.real_space_precision,
-                "the real-space sum in double, single or auto precision (as "
-                "ewald.real_space_precision, whose default in a run is auto)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"double", "single", "auto"}));
-  b->add_option("--tolerance", a.o.tolerance, "Ewald tolerance")
+  add_precision_option(b, "--precision", a.o.ewald.precision,
+                       "method spectral: its grids and FFTs in double, single or auto "
+                       "precision (as ewald.precision, whose default in a run is auto)");
+  add_precision_option(b, "--real-space-precision", a.o.ewald.real_space_precision,
+                       "the real-space sum in double, single or auto precision (as "
+                       "ewald.real_space_precision, whose default in a run is auto)");
+  b->add_option("--tolerance", a.o.ewald.tolerance, "Ewald tolerance")
       ->capture_default_str()
       ->check(finite_number());
   b->add_option("--strain", a.o.strain, "lattice strain offset")
@@ -253,7 +276,7 @@ void add_bench_command(CLI::App& app, BenchArgs& a) {
   b->add_option("--seed", a.o.seed, "packing seed")
       ->capture_default_str()
       ->check(whole_number());
-  b->add_option("--xi", a.o.xi, "Ewald xi (default: automatic, as in `capsim run`)")
+  b->add_option("--xi", a.o.ewald.xi, "Ewald xi (default: automatic, as in `capsim run`)")
       ->check(finite_number());
   b->add_option("--repeats", a.o.repeats, "timed evaluations")
       ->capture_default_str()

@@ -11,6 +11,14 @@ namespace capsim {
 
 template <class E> using Choice = std::pair<const char*, E>;
 
+// "a, b, c": the names of `choices`, for messages.
+template <class E, std::size_t N> std::string choice_list(const Choice<E> (&choices)[N]) {
+  std::string names;
+  for (const Choice<E>& c : choices)
+    names += (names.empty() ? "" : ", ") + std::string(c.first);
+  return names;
+}
+
 // The value called `name` in `choices`; throws std::invalid_argument("<key> must be one
 // of {a, b}, got '<name>'") for any other name.
 template <class E, std::size_t N>
@@ -18,11 +26,8 @@ E parse_choice(const char* key, const std::string& name, const Choice<E> (&choic
   for (const Choice<E>& c : choices)
     if (name == c.first)
       return c.second;
-  std::string allowed;
-  for (const Choice<E>& c : choices)
-    allowed += (allowed.empty() ? "" : ", ") + std::string(c.first);
-  throw std::invalid_argument(std::string(key) + " must be one of {" + allowed +
-                              "}, got '" + name + "'");
+  throw std::invalid_argument(std::string(key) + " must be one of {" +
+                              choice_list(choices) + "}, got '" + name + "'");
 }
 
 // The name of `value` in `choices`.

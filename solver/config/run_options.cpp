@@ -1,5 +1,7 @@
 #include "config/run_options.hpp"
 
+#include "common/choice.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -148,6 +150,29 @@ Param named(const std::string& key, std::vector<std::string> names,
           get};
 }
 
+// E comes from the table alone (a lambda is no std::function to deduce it from).
+template <class T> struct NotDeduced { using type = T; };
+
+// A key stored as an enum whose names are the table `choices` (the one place they are
+// written, next to the enum).
+template <class E, std::size_t N>
+Param named(const std::string& key, const Choice<E> (&choices)[N],
+            typename NotDeduced<std::function<E&(RunOptions&)>>::type ref,
+            const std::string& help) {
+  std::vector<std::string> names;
+  for (const Choice<E>& c : choices)
+    names.push_back(c.first);
+  return named(
+      key, names,
+      [key, ref, &choices](RunOptions& o, const std::string& s) {
+        ref(o) = parse_choice(key.c_str(), s, choices);
+      },
+      [ref, &choices](const RunOptions& o) {
+        return choice_name(ref(const_cast<RunOptions&>(o)), choices);
+      },
+      help);
+}
+
 const std::vector<Param>& parameters();
 
 } // namespace
@@ -221,11 +246,8 @@ const std::vector<Param>& parameters() {
           "phi", {0, 0.45, false, false}, [](RunOptions& o) -> double& { return o.phi; },
           "volume fraction; 0 = one capsule in unbounded shear (dilute limit)"),
       named(
-          "method", {"spectral", "direct", "patches"},
-          [](RunOptions& o, const std::string& s) {
-            o.ewald.method = parse_ewald_method(s);
-          },
-          [](const RunOptions& o) { return to_string(o.ewald.method); },
+          "method", kEwaldMethods,
+          [](RunOptions& o) -> EwaldMethod& { return o.ewald.method; },
           "periodic sums (phi > 0): spectral (Spectral Ewald, FFT), direct (plain "
           "Ewald, the reference) or patches (plain Ewald with the reciprocal sum over "
           "multipole patches, the paper's coarse graining)"),
@@ -246,9 +268,9 @@ const std::vector<Param>& parameters() {
           "dt_safety", {0, 2, true, false},
           [](RunOptions& o) -> double& { return o.dt_safety; },
           "C in the automatic time step dt = C Ca h / (1 + 4 membrane.bending / h^2)"),
-      choice(
-          "time.scheme", {"heun", "imex", "rkc"},
-          [](RunOptions& o) -> std::string& { return o.time.scheme; },
+      named(
+          "time.scheme", kTimeSchemes,
+          [](RunOptions& o) -> TimeScheme& { return o.time.scheme; },
           "heun (explicit 2nd-order Runge-Kutta, eq. 3.2: stable for dt ~ Ca h), imex "
           "(linearly implicit 2nd-order Rosenbrock-W: each capsule's own membrane "
           "stiffness implicit, the rest explicit; steps far beyond Ca h) or rkc "
@@ -268,9 +290,9 @@ const std::vector<Param>& parameters() {
           "the first step. 0 = a fixed step dt; auto = 0 for heun, for imex the "
           "tolerance whose time error stays below a tenth of the mesh error at "
           "mesh_level with the chosen time.error_norm (docs/method.md)"),
-      choice(
-          "time.error_norm", {"max", "rms"},
-          [](RunOptions& o) -> std::string& { return o.time.error_norm; },
+      named(
+          "time.error_norm", kErrorNorms,
+          [](RunOptions& o) -> ErrorNorm& { return o.time.error_norm; },
           "how the adaptive step measures a step's node errors: max (the largest over "
           "all nodes) or rms (the root mean square over each capsule's nodes, the "
           "largest over capsules)"),
@@ -295,9 +317,8 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.initial_stretch; },
           "initial shape x -> (s x, y/sqrt s, z/sqrt s) of the reference sphere"),
       named(
-          "membrane.load", {"lumped", "consistent"},
-          [](RunOptions& o, const std::string& s) { o.load = parse_load_mapping(s); },
-          [](const RunOptions& o) { return to_string(o.load); },
+          "membrane.load", kLoadMappings,
+          [](RunOptions& o) -> LoadMapping& { return o.load; },
           "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F; "
           "needs dt_safety <= 0.2)"),
       real(
@@ -398,9 +419,8 @@ const std::vector<Param>& parameters() {
           "threads", {0, 1024, false, false},
           [](RunOptions& o) -> int& { return o.threads; },
           "OpenMP threads; 0 = the OpenMP default"),
-      choice(
-          "backend", {"cpu", "cuda"},
-          [](RunOptions& o) -> std::string& { return o.backend; },
+      named(
+          "backend", kBackends, [](RunOptions& o) -> Backend& { return o.backend; },
           "where the flow is evaluated: cpu (OpenMP) or cuda (one GPU; lumped load, "
           "the spectral method, no bending)"),
   };

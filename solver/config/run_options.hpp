@@ -4,6 +4,7 @@
 // the resolved run.yaml and `capsim params` all read that table, so they cannot drift
 // apart.
 #include "dynamics/repulsion.hpp"
+#include "dynamics/time_schemes.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/ewald/ewald_setup.hpp"
 #include "stokes/single_layer/single_layer.hpp"
@@ -25,10 +26,11 @@ struct OutputOptions {
 inline constexpr double kAutomatic = -1;
 
 struct TimeOptions {
-  std::string scheme = "heun"; // heun, rkc (explicit) or imex (linearly implicit)
-  int stages = 4;              // of rkc
-  double tolerance = 0;        // largest step error (error_norm), in a; 0 = a fixed step
-  std::string error_norm = "max"; // of the node errors: max or rms (per capsule)
+  // heun, rkc (explicit) or imex (linearly implicit)
+  TimeScheme scheme = TimeScheme::heun;
+  int stages = 4;       // of rkc
+  double tolerance = 0; // largest step error (error_norm), in a; 0 = a fixed step
+  ErrorNorm error_norm = ErrorNorm::max; // of the node errors: max or rms (per capsule)
 };
 
 struct SuspensionOptions {
@@ -57,8 +59,8 @@ struct RunOptions {
   EwaldOptions ewald;
   SuspensionOptions suspension;
   OutputOptions output;
-  int threads = 0;             // OpenMP threads; 0 = the OpenMP default
-  std::string backend = "cpu"; // where the flow is evaluated: cpu or cuda (a GPU)
+  int threads = 0;                // OpenMP threads; 0 = the OpenMP default
+  Backend backend = Backend::cpu; // where the flow is evaluated: cpu or cuda (a GPU)
 };
 
 // Thrown for bad input; the message names the key and the allowed range.

@@ -2,9 +2,17 @@
 
 namespace capsim {
 
-StepOutcome AdaptiveStepper::step_towards(std::vector<Vec3>& x, double& t,
-                                          double target) {
-  const double h = std::min(dt_, target - t);
+TimeStepper::TimeStepper(Stepper& scheme, double tolerance, double dt, double min_dt,
+                         double t_end)
+    : scheme_(scheme), dt_(dt), min_dt_(min_dt), t_end_(t_end),
+      // 1e-9: t_end a whole number of steps up to rounding takes no extra step.
+      fixed_steps_(std::lround(std::ceil(t_end / dt - 1e-9))) {
+  control_.tolerance = tolerance;
+}
+
+StepOutcome TimeStepper::step_towards(std::vector<Vec3>& x, double target) {
+  const double t = time();
+  const double h = control_.size(dt_, t, target);
   std::vector<Vec3> trial = x;
   const double error = scheme_.step(trial, t, h);
   const double proposal = control_.next(h, error);
@@ -16,8 +24,17 @@ StepOutcome AdaptiveStepper::step_towards(std::vector<Vec3>& x, double& t,
   if (!(h < dt_ && proposal >= h))
     dt_ = proposal;
   x = std::move(trial);
-  t = h == target - t ? target : t + h;
+  ++steps_;
+  t_ = h == target - t ? target : t + h;
   return StepOutcome::accepted;
+}
+
+void TimeStepper::resume(long steps, double t, double next_dt, long rejected) {
+  steps_ = steps;
+  t_ = t;
+  rejected_ = rejected;
+  if (!fixed() && next_dt > 0)
+    dt_ = next_dt;
 }
 
 } // namespace capsim

@@ -1,6 +1,5 @@
 #include "dynamics/flow.hpp"
 
-#include "common/choice.hpp"
 #include "dynamics/volume_constraint.hpp"
 
 #include <algorithm>
@@ -8,8 +7,6 @@
 #include <stdexcept>
 
 namespace capsim {
-
-constexpr Choice<Backend> kBackends[] = {{"cpu", Backend::cpu}, {"cuda", Backend::cuda}};
 
 Backend parse_backend(const std::string& name) {
   return parse_choice("backend", name, kBackends);

@@ -5,6 +5,7 @@
 // the CPU (dynamics/cpu_flow.hpp) and on a CUDA device (cuda/device_flow.hpp); one
 // factory (run/flow_factory.hpp) checks a backend's capabilities against the set-up and
 // builds it.
+#include "common/choice.hpp"
 #include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
 #include "stokes/ewald/ewald_setup.hpp"
@@ -20,6 +21,10 @@ namespace capsim {
 
 // Where the velocity field is evaluated: the CPU (OpenMP) or one CUDA device.
 enum class Backend { cpu, cuda };
+
+// The names of the backend key, written once: the run key, its parsing and its printing.
+inline constexpr Choice<Backend> kBackends[] = {{"cpu", Backend::cpu},
+                                                {"cuda", Backend::cuda}};
 
 Backend parse_backend(const std::string& name); // throws std::invalid_argument
 std::string to_string(Backend b);

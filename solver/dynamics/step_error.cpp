@@ -1,18 +1,17 @@
 #include "dynamics/step_error.hpp"
 
-#include "common/choice.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace capsim {
 
-constexpr Choice<ErrorNorm> kErrorNorms[] = {{"max", ErrorNorm::max},
-                                             {"rms", ErrorNorm::rms}};
-
 ErrorNorm parse_error_norm(const std::string& name) {
   return parse_choice("time.error_norm", name, kErrorNorms);
+}
+
+std::string to_string(ErrorNorm n) {
+  return choice_name(n, kErrorNorms);
 }
 
 double step_error(const std::vector<Vec3>& e, int num_capsules, ErrorNorm n) {

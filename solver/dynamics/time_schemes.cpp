@@ -1,19 +1,10 @@
 #include "dynamics/time_schemes.hpp"
 
-#include "common/choice.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace capsim {
-
-constexpr Choice<TimeScheme> kTimeSchemes[] = {
-    {"heun", TimeScheme::heun}, {"imex", TimeScheme::imex}, {"rkc", TimeScheme::rkc}};
-
-TimeScheme parse_time_scheme(const std::string& name) {
-  return parse_choice("time.scheme", name, kTimeSchemes);
-}
 
 std::string to_string(TimeScheme s) {
   return choice_name(s, kTimeSchemes);

@@ -17,6 +17,7 @@
 //         axis up to beta(s) ~ 0.65 s^2 (Heun: 2). The membrane's stiff modes are real
 //         and negative (Heun's limit is a real-axis limit), so a step costs s / 2 Heun
 //         steps and may be beta(s) / 2 times longer.
+#include "common/choice.hpp"
 #include "dynamics/flow.hpp"
 #include "dynamics/step_error.hpp"
 #include "dynamics/stiff_membrane.hpp"
@@ -30,7 +31,10 @@ namespace capsim {
 
 enum class TimeScheme { heun, imex, rkc };
 
-TimeScheme parse_time_scheme(const std::string& name); // throws std::invalid_argument
+// The names of time.scheme, written once: the run key, its parsing and its printing.
+inline constexpr Choice<TimeScheme> kTimeSchemes[] = {
+    {"heun", TimeScheme::heun}, {"imex", TimeScheme::imex}, {"rkc", TimeScheme::rkc}};
+
 std::string to_string(TimeScheme s);
 
 // One Heun step from time t (paper eq. 3.2, explicit 2nd-order Runge-Kutta) on the

@@ -1,6 +1,5 @@
 #include "membrane/membrane_forces.hpp"
 
-#include "common/choice.hpp"
 #include "membrane/neo_hookean_hessian.hpp"
 #include "mesh/surface_geometry.hpp"
 
@@ -10,9 +9,6 @@
 #include <stdexcept>
 
 namespace capsim {
-
-constexpr Choice<LoadMapping> kLoadMappings[] = {{"lumped", LoadMapping::lumped},
-                                                 {"consistent", LoadMapping::consistent}};
 
 LoadMapping parse_load_mapping(const std::string& name) {
   return parse_choice("membrane.load", name, kLoadMappings);

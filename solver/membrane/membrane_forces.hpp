@@ -2,6 +2,7 @@
 // Assembly of the membrane forces of one capsule and the traction jump q that enters the
 // boundary integral (eq. 2.2). Sign (docs/conventions.md): q_i = (dW/dx_i) / A_i, so that
 // a stretched capsule in quiescent fluid relaxes.
+#include "common/choice.hpp"
 #include "membrane/bending.hpp"
 #include "membrane/neo_hookean_hessian.hpp"
 #include "membrane/tension_field.hpp"
@@ -22,6 +23,10 @@ namespace capsim {
 //  the
 //              P1 field q reproduces the weak form (eq. 3.1) exactly.
 enum class LoadMapping { lumped, consistent };
+
+// The names of membrane.load, written once: the run key, its parsing and its printing.
+inline constexpr Choice<LoadMapping> kLoadMappings[] = {
+    {"lumped", LoadMapping::lumped}, {"consistent", LoadMapping::consistent}};
 
 LoadMapping parse_load_mapping(const std::string& name); // throws on unknown names
 std::string to_string(LoadMapping m);

@@ -64,15 +64,14 @@ void resolve_automatic_settings(RunOptions& o, bool quiet) {
                    o.ewald.tolerance, o.mesh_level);
   }
   if (o.time.tolerance == kAutomatic) {
-    o.time.tolerance =
-        parse_time_scheme(o.time.scheme) == TimeScheme::imex
-            ? automatic_time_tolerance(o.mesh_level, parse_error_norm(o.time.error_norm))
-            : 0;
+    o.time.tolerance = o.time.scheme == TimeScheme::imex
+                           ? automatic_time_tolerance(o.mesh_level, o.time.error_norm)
+                           : 0;
     if (!quiet)
       std::fprintf(stderr,
                    "capsim: time.tolerance auto = %.3g (%s, %s norm, mesh level %d)\n",
-                   o.time.tolerance, o.time.scheme.c_str(), o.time.error_norm.c_str(),
-                   o.mesh_level);
+                   o.time.tolerance, to_string(o.time.scheme).c_str(),
+                   to_string(o.time.error_norm).c_str(), o.mesh_level);
   }
 }
 

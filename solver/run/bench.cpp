@@ -5,6 +5,8 @@
 #include "dynamics/packing.hpp"
 #include "io/json_writer.hpp"
 #include "membrane/membrane_forces.hpp"
+#include "run/flow_factory.hpp"
+#include "run/run_plan.hpp"
 #include "stokes/ewald/ewald_setup.hpp"
 #include "stokes/ewald/real_space_sum.hpp"
 #include "stokes/quadrature/triangle_sources.hpp"
@@ -33,15 +35,12 @@ void check_options(const BenchOptions& o) {
   require_in("--capsules", o.capsules, {1, 100000}, true);
   require_in("--mesh-level", o.mesh_level, {0, 5}, true);
   require_in("--phi", o.phi, {0, 0.45, true, false});
-  if (o.method != "spectral" && o.method != "direct" && o.method != "patches")
-    throw ConfigError("--method: must be one of {spectral, direct, patches}, got " +
-                      quoted_for_message(o.method));
-  require_in("--patch-level", o.patch_level, {0, double(o.mesh_level)}, true);
-  require_in("--tolerance", o.tolerance, {1e-12, 1, false, true});
+  require_in("--patch-level", o.ewald.patch_level, {0, double(o.mesh_level)}, true);
+  require_in("--tolerance", o.ewald.tolerance, {1e-12, 1, false, true});
   require_in("--strain", o.strain, {-1e6, 1e6});
   require_in("--seed", o.seed, {0, 2147483647.0}, true);
-  if (o.xi != 0) // 0: automatic
-    require_in("--xi", o.xi, {0, 100, true, false});
+  if (o.ewald.xi != 0) // 0: automatic
+    require_in("--xi", o.ewald.xi, {0, 100, true, false});
   require_in("--repeats", o.repeats, {1, 100}, true);
 }
 
@@ -145,23 +144,9 @@ std::string run_benchmark(const BenchOptions& o) {
   const QuadratureOptions quad;
   const long nodes = long(c.x.size());
   const long points = far_rule_points(c.mesh.topology, o.capsules);
-  PeriodicBox box;
-  EwaldOptions request{parse_ewald_method(o.method), o.tolerance, o.xi, o.patch_level};
-  auto precision_of = [](const std::string& value, const std::string& option) {
-    try {
-      return parse_precision(value);
-    } catch (const std::invalid_argument& e) {
-      throw ConfigError(option + ": " + e.what());
-    }
-  };
-  request.precision = precision_of(o.precision, "--precision");
-  request.real_space_precision =
-      precision_of(o.real_space_precision, "--real-space-precision");
-  try {
-    box = make_periodic_box(c.L, request, nodes, points);
-  } catch (const std::invalid_argument& e) { // a given xi out of proportion to the box
-    throw ConfigError(std::string("--xi: ") + e.what());
-  }
+  // The box as a run on the cpu backend gets it, from the same resolution.
+  const PeriodicBox box = plan_periodic_box(c.L, o.ewald, capabilities_of(Backend::cpu),
+                                            nodes, points, "--xi");
   const ShearedLattice lattice = make_sheared_lattice(c.L, o.strain);
   std::unique_ptr<SpectralEwald> spectral;
   if (box.method == EwaldMethod::spectral)
@@ -181,14 +166,14 @@ std::string run_benchmark(const BenchOptions& o) {
 
   JsonWriter j;
   j.begin_object();
-  j.field("method", o.method);
+  j.field("method", to_string(o.ewald.method));
   j.field("capsules", o.capsules);
   j.field("mesh_level", o.mesh_level);
   j.field("phi", o.phi);
   j.field("box", c.L);
   j.field("strain", o.strain);
   j.field("seed", o.seed);
-  j.field("tolerance", o.tolerance);
+  j.field("tolerance", o.ewald.tolerance);
   j.field("threads", omp_get_max_threads());
   j.field("nodes", nodes);
   j.field("sources", points);

@@ -3,22 +3,28 @@
 // velocity of every node of M capsules in a sheared box) for one method and tolerance, on
 // a reproducible suspension configuration, against a tight-tolerance direct Ewald
 // reference on the same configuration. Prints one JSON object.
+#include "stokes/ewald/ewald_setup.hpp"
+
 #include <string>
 
 namespace capsim {
+
+// Spectral at 1e-4, xi automatic, patches of level 1 (P = 80), double precision.
+inline EwaldOptions bench_defaults() {
+  EwaldOptions e{EwaldMethod::spectral, 1e-4};
+  e.precision = e.real_space_precision = Precision::double_precision;
+  return e;
+}
 
 struct BenchOptions {
   int capsules = 27;
   int mesh_level = 3;
   double phi = 0.3;
-  std::string method = "spectral"; // spectral | direct | patches
-  int patch_level = 1;             // patches: faces of this icosphere level (P = 80)
-  double tolerance = 1e-4;
+  // The periodic sums, the type a run asks with (method, tolerance, xi: 0 = automatic,
+  // patch_level, precisions); resolved as a run's on the cpu backend (run/run_plan.hpp).
+  EwaldOptions ewald = bench_defaults();
   double strain = 0.0;
   int seed = 1;
-  double xi = 0;                               // 0: the automatic choice of `capsim run`
-  std::string precision = "double";            // spectral grids: double, single or auto
-  std::string real_space_precision = "double"; // the real-space sum: the same choices
   int repeats = 3;            // timed evaluations (spectral: after an untimed warm-up)
   std::string reference_file; // cache of the reference velocities ("" = none)
   bool reference = true;      // false: no reference, no rel_error

@@ -5,6 +5,7 @@
 // checkpoints), so that a stage out of line shows at the scale the workflow runs.
 #include "dynamics/flow.hpp"
 
+#include <omp.h>
 #include <string>
 
 namespace capsim {
@@ -20,6 +21,23 @@ struct RunProfile {
   double snapshots = 0;
   double checkpoints = 0; // the time series rows written and the checkpoint
   double loop = 0;        // the whole time loop
+};
+
+// Adds the wall seconds of its scope to *into; does nothing when into is null (a run
+// without a profile).
+class ScopeTimer {
+public:
+  explicit ScopeTimer(double* into) : into_(into), start_(into ? omp_get_wtime() : 0) {}
+  ~ScopeTimer() {
+    if (into_)
+      *into_ += omp_get_wtime() - start_;
+  }
+  ScopeTimer(const ScopeTimer&) = delete;
+  ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+private:
+  double* into_;
+  double start_;
 };
 
 // FILE: JSON with every stage in seconds per step and in total, and the evaluations'

@@ -69,4 +69,24 @@ void check_state(const Membrane& membrane, int num_capsules, const std::vector<V
   throw SimulationError(s.str());
 }
 
+void check_contact(const Topology& topo, int num_capsules, const ShearedLattice& lattice,
+                   const std::vector<Vec3>& x, double stop_distance, double time) {
+  const ClosestApproach c =
+      closest_approach(topo, num_capsules, lattice, x, stop_distance);
+  if (!(c.distance < stop_distance))
+    return;
+  const std::string who =
+      c.capsule_a == c.capsule_b
+          ? "capsule " + std::to_string(c.capsule_a) + " and its periodic image touch"
+          : "capsules " + std::to_string(c.capsule_a) + " and " +
+                std::to_string(c.capsule_b) + " touch";
+  throw SimulationError(who + " at gammadot*t = " + std::to_string(time) +
+                            " (node distance " + std::to_string(c.distance) +
+                            " < suspension.stop_distance): the near-contact "
+                            "flow is under-resolved; start again with a smaller dt or a "
+                            "finer mesh (the output "
+                            "folder keeps the last good checkpoint and time series)",
+                        "contact");
+}
+
 } // namespace capsim

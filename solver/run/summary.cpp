@@ -76,4 +76,20 @@ void write_summary_json(const std::string& path, const RunOptions& o,
   write_text_atomically(path, j.str());
 }
 
+void add_box_facts(const PeriodicBox& box, SummaryFacts& f) {
+  f.box_side = box.L;
+  f.ewald_xi = box.ewald.xi;
+  f.ewald_r_cut = box.ewald.r_cut;
+  f.ewald_k_cut = box.ewald.k_cut;
+  auto precision = [](bool single) {
+    return to_string(single ? Precision::single_precision : Precision::double_precision);
+  };
+  if (box.method == EwaldMethod::spectral) {
+    f.spectral_grid.assign(box.grid.grid, box.grid.grid + 3);
+    f.spectral_precision = precision(box.grid.single);
+  }
+  f.spectral_support = box.grid.support;
+  f.real_space_precision = precision(box.ewald.single_real);
+}
+
 } // namespace capsim

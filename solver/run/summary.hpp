@@ -25,6 +25,9 @@ struct SummaryFacts {
   std::string end_message;     // why it stopped early; empty for "t_end"
 };
 
+// The box's facts (side, Ewald parameters, grid, precisions as resolved) into f.
+void add_box_facts(const PeriodicBox& box, SummaryFacts& f);
+
 void write_summary_json(const std::string& path, const RunOptions& o,
                         const RunAverages& a, const SummaryFacts& facts);
 

@@ -94,9 +94,9 @@ TEST_CASE(
     CHECK_FALSE(fs::exists(dir)); // nothing was written
     fs::remove(err);
   } else {
-    CHECK(parse_run_options("backend: cuda\n", {}).backend == "cuda");
+    CHECK(parse_run_options("backend: cuda\n", {}).backend == Backend::cuda);
   }
-  CHECK(parse_run_options("backend: cpu\n", {}).backend == "cpu");
+  CHECK(parse_run_options("backend: cpu\n", {}).backend == Backend::cpu);
 }
 
 TEST_CASE("cuda backend: what it lacks is refused by one check naming the key, whatever "

@@ -1,6 +1,5 @@
 #include "stokes/ewald/ewald_setup.hpp"
 
-#include "common/choice.hpp"
 #include "stokes/ewald/ewald_reciprocal.hpp"
 
 #include <algorithm>
@@ -8,10 +7,6 @@
 #include <stdexcept>
 
 namespace capsim {
-
-constexpr Choice<EwaldMethod> kEwaldMethods[] = {{"spectral", EwaldMethod::spectral},
-                                                 {"direct", EwaldMethod::direct},
-                                                 {"patches", EwaldMethod::patches}};
 
 EwaldMethod parse_ewald_method(const std::string& name) {
   return parse_choice("method", name, kEwaldMethods);
@@ -64,8 +59,7 @@ void check_given_xi(double L, double xi, const EwaldParameters& p) {
 }
 
 bool takes_single(Precision p, double tolerance) {
-  return p == Precision::single_precision ||
-         (p == Precision::automatic && tolerance >= kSinglePrecisionTolerance);
+  return resolve_precision(p, tolerance) == Precision::single_precision;
 }
 
 } // namespace
@@ -93,6 +87,14 @@ PeriodicBox make_periodic_box(double L, const EwaldOptions& request, long nodes,
     box.grid.single = takes_single(request.precision, tolerance);
   }
   return box;
+}
+
+Precision resolve_precision(Precision p, double tolerance, bool available) {
+  if (p != Precision::automatic)
+    return p;
+  return available && tolerance >= kSinglePrecisionTolerance
+             ? Precision::single_precision
+             : Precision::double_precision;
 }
 
 Precision parse_precision(const std::string& name) {

@@ -2,6 +2,7 @@
 // One home for the set-up of the periodic sums: the method, and the choice of xi, the
 // cut-offs and the Spectral-Ewald grid from one tolerance. A run, `capsim bench` and the
 // backend self-test all build their box here.
+#include "common/choice.hpp"
 #include "stokes/ewald/spectral_ewald.hpp"
 #include "stokes/kernels/periodic_stokeslet.hpp"
 #include "stokes/single_layer/periodic_single_layer.hpp"
@@ -15,6 +16,12 @@ namespace capsim {
 // a grid), directly over the quadrature points (plain Ewald, the reference), or directly
 // over multipole patches (the paper's coarse graining, section 3.1).
 enum class EwaldMethod { spectral, direct, patches };
+
+// The names of the method key (and `capsim bench --method`), written once.
+inline constexpr Choice<EwaldMethod> kEwaldMethods[] = {
+    {"spectral", EwaldMethod::spectral},
+    {"direct", EwaldMethod::direct},
+    {"patches", EwaldMethod::patches}};
 
 EwaldMethod parse_ewald_method(const std::string& name); // throws std::invalid_argument
 std::string to_string(EwaldMethod m);
@@ -41,6 +48,11 @@ std::string to_string(Precision p);
 // (the real-space sum; rms, measured: docs/performance.md, "Single precision"); from this
 // tolerance on that is at most a thirtieth of the requested error.
 constexpr double kSinglePrecisionTolerance = 1e-5;
+
+// The precision a stage runs in: p where given; for automatic, single where the tolerance
+// is at least kSinglePrecisionTolerance and `available` (the evaluating backend has it),
+// else double. The one rule for `auto`: the run plan, bench and the box all apply it.
+Precision resolve_precision(Precision p, double tolerance, bool available = true);
 
 // What a run asks of the periodic sums: the one type from the run's options
 // (config/run_options.hpp: method, ewald.*) to the box.

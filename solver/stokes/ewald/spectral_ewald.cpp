@@ -133,9 +133,9 @@ SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& e
   p.support += p.support % 2; // even: the stencil is centred on the point (odd P is not)
   // Wave numbers the grid carries, in units of k_cut L / 2 pi: y needs 1.5 for the shear;
   // x and z need only 1, but the deconvolution exp(eta_d k_d^2 / (4 xi^2)) amplifies the
-  // aliased content of modes near the Nyquist: with no margin the error reached 2-4.5
-  // times the tolerance from 1e-4 to 1e-8, with 25 % it stays below it (the accuracy
-  // table of docs/performance.md).
+  // aliased content of modes near the Nyquist: with no margin along x and z the error
+  // reaches 2.9 times the tolerance at 1e-6, with 25 % it stays below it
+  // (docs/performance.md, "Accuracy against the requested tolerance").
   constexpr double kReach[3] = {1.25, 1.5, 1.25};
   const double n_cut = ewald.k_cut * L / (2.0 * kPi),
                m = 0.976 * std::sqrt(kPi * p.support);
