@@ -224,6 +224,8 @@ def _context(rows):
                                              zip(rows["t_start"], rows["t_end"])})))
     if "seed" in rows and len(rows) > 1:
         parts.append(f"{len(rows)} runs")
+    if "obtained" in rows and (rows["obtained"].fillna("run") != "run").any():
+        parts.append("the paper's membrane as the limit eb -> 0")
     if "ended" in rows:
         early = rows[rows["ended"].fillna("t_end") != "t_end"]
         for r in early.itertuples():

@@ -66,11 +66,6 @@ class Run:
         return (f"ca{self.ca:g}_phi{self.phi:g}_M{self.capsules}_level{self.level}"
                 f"_seed{self.seed}_{self.membrane}")
 
-    @property
-    def is_reference(self):
-        """A dilute run of the paper's membrane: the dilute study's, not made here."""
-        return self.case == "dilute" and self.membrane == PAPER
-
 
 def _error(key, why):
     return ValueError(f"sensitivity.{key}: {why}")
@@ -137,12 +132,17 @@ def dilute_references(block, dilute_block):
     return [_dilute_run(ca, level, PAPER, dilute_block) for ca, level in _dilute_cases(block)]
 
 
-def run_dir(run, results, dilute_results):
-    """A run's folder: results/sensitivity/<name>, or the dilute study's
-    results/dilute/ca<Ca>_level<level> for a reference."""
-    if run.is_reference:
-        return Path(dilute_results) / f"ca{run.ca:g}_level{run.level}"
-    return Path(results) / run.name
+def run_folders(block, dilute_block, results, references):
+    """(Run, folder) of every run the table reads: the study's own in
+    results/sensitivity/<name>, then each of dilute_references() in the folder given for
+    it (`references`, in its order: the workflow names the dilute study's folders,
+    pipeline.run_spec, so that no name is spelt twice)."""
+    refs = dilute_references(block, dilute_block)
+    if len(refs) != len(references):
+        raise ValueError(f"sensitivity: {len(references)} reference folders given for "
+                         f"{len(refs)} dilute references")
+    return ([(run, Path(results) / run.name) for run in plan(block, dilute_block)] +
+            list(zip(refs, map(Path, references))))
 
 
 def run_names(block, dilute_block):
@@ -251,11 +251,11 @@ def sort_rows(table):
     return table.loc[order.index].reset_index(drop=True)
 
 
-def study_table(block, dilute_block, results, dilute_results):
+def study_table(block, dilute_block, results, references):
     """The study's table (a DataFrame, COLUMNS): one row per run and per dilute
-    reference, sorted (sort_rows)."""
-    runs = plan(block, dilute_block) + dilute_references(block, dilute_block)
-    rows = [run_values(run, run_dir(run, results, dilute_results)) for run in runs]
+    reference (its folder in `references`, run_folders()), sorted (sort_rows)."""
+    rows = [run_values(run, folder)
+            for run, folder in run_folders(block, dilute_block, results, references)]
     table = pd.DataFrame(rows, columns=[c for c in COLUMNS
                                         if c not in ("smallest_eb_to_end",)
                                         and not c.endswith(("_change", "_change_se"))])
@@ -305,18 +305,19 @@ def markdown(table):
 
 def main(argv=None):
     """CLI: python -m analysis.sensitivity --plan JSON --dilute JSON --results DIR
-    --dilute-results DIR --out-csv CSV --out-md MD."""
+    --references JSON --out-csv CSV --out-md MD."""
     ap = argparse.ArgumentParser(description="The sensitivity study's table.")
     ap.add_argument("--plan", required=True, help="the sensitivity block of the config (JSON)")
     ap.add_argument("--dilute", required=True, help="the dilute block of the config (JSON)")
     ap.add_argument("--results", required=True, help="the folder of the study's runs")
-    ap.add_argument("--dilute-results", required=True,
-                    help="the dilute study's folder (the paper-membrane references)")
+    ap.add_argument("--references", required=True,
+                    help="the folders of the dilute study's runs of the paper's membrane, "
+                    "one per dilute reference in its order (a JSON list)")
     ap.add_argument("--out-csv", required=True)
     ap.add_argument("--out-md", required=True)
     args = ap.parse_args(argv)
     table = study_table(json.loads(args.plan), json.loads(args.dilute), args.results,
-                        args.dilute_results)
+                        json.loads(args.references))
     for r in table[table["ended"] != "t_end"].itertuples():
         print(f"sensitivity: {r.run} stopped early ({r.ended} at {r.t_stop:.2f})",
               file=sys.stderr)

@@ -13,9 +13,9 @@ of a, and the
 averages <D> and mu_sp of both. The CPU run takes the device run's Ewald splitting
 (ewald.xi), which the device may choose smaller (docs/gpu.md), so that the difference is
 the backends' and not the Ewald error's. Both backends take the same steps (dt follows the mesh),
-so the two time series are compared sample by sample. The backend needs lumped loads,
-no bending and no repulsion (docs/gpu.md), so the suspension cases run without the
-repulsion of the quantitative configuration. Run it on an otherwise idle machine with a GPU.
+so the two time series are compared sample by sample. The backend needs lumped loads
+and no bending (docs/gpu.md); it has the repulsion, but the suspension cases run without
+it, as they were first measured. Run it on an otherwise idle machine with a GPU.
 """
 
 import argparse

@@ -32,7 +32,6 @@ import pandas as pd  # noqa: E402
 from analysis.tables import markdown_table  # noqa: E402
 from doc_tables import (ewald_scaling, ewald_speed, precision_table,  # noqa: E402
                         real_space_precision_table, xi_table)
-from pipeline.command_line import run_command  # noqa: E402
 from pipeline.run_spec import RunSpec  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -189,7 +188,7 @@ def run_wall_seconds(capsules, level, method, steps, tolerance):
     out = ROOT / spec.folder
     subprocess.run(["rm", "-rf", str(out)], check=True)
     # threads 0: OpenMP's default, as capsim's own
-    cmd = run_command(CAPSIM, spec.capsim_options(threads=0), out, "-q")
+    cmd, _ = spec.command(CAPSIM, threads=0, root=ROOT)
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=True)
     summary = json.loads((out / "summary.json").read_text())

@@ -30,7 +30,6 @@ import pandas as pd
 from analysis.read_run import read_timeseries
 from analysis.rheology import particle_stress
 from analysis.tables import markdown_table
-from pipeline.command_line import run_command, set_arguments
 from pipeline.run_spec import RunSpec
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -55,11 +54,7 @@ def run(spec):
         s = json.loads(summary.read_text())
         if s.get("ended") != "t_end" or s["t_end"] >= spec.t_end:  # stopped early, or done
             return folder
-    if (folder / "checkpoint.h5").exists():
-        cmd = [str(CAPSIM), "run", "--resume", str(folder),
-               *set_arguments({"t_end": spec.t_end})]
-    else:  # threads 0: OpenMP's default, as capsim's own
-        cmd = run_command(CAPSIM, spec.capsim_options(threads=0), folder)
+    cmd, _ = spec.command(CAPSIM, threads=0, root=ROOT)  # 0: OpenMP's default, as capsim's
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=False)  # exit 3 (early stop) still leaves a summary
     return folder

@@ -38,7 +38,6 @@ import pandas as pd
 from analysis.read_run import read_timeseries
 from analysis.rheology import particle_stress
 from analysis.tables import markdown_table
-from pipeline.command_line import run_command
 from pipeline.run_spec import RunSpec
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -103,10 +102,7 @@ def run(spec, a):
     folder = ROOT / spec.folder
     if (folder / "summary.json").exists():
         return folder
-    if (folder / "checkpoint.h5").exists():
-        cmd = [str(a.capsim), "run", "-q", "--resume", str(folder)]
-    else:
-        cmd = run_command(a.capsim, spec.capsim_options(a.threads), folder, "-q")
+    cmd, _ = spec.command(a.capsim, a.threads, root=ROOT)
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=False)  # an early stop still leaves a summary
     return folder

@@ -61,6 +61,7 @@ import h5py
 import numpy as np
 import yaml
 
+from pipeline.command_line import resume_command
 from pipeline.run_spec import flat_options, options_differ, options_key, physics_version
 
 FORMAT = 1
@@ -515,7 +516,7 @@ def plan(specs, archive_root, options_of, segment_ends, workdir="."):
     foreign = []  # run folders of other runs: all named at once
     for spec in specs:
         run_dir = Path(workdir) / spec.folder
-        record_dir = Path(archive_root) / spec.study / spec.name
+        record_dir = spec.record(archive_root)
         local = reached(run_dir)
         if local is None and not (record_dir / RECORD).exists():
             continue
@@ -603,10 +604,9 @@ def replay(record_dir, capsim, threads=None, span=None):
         # The averaging window only shapes the summary, not the rows; it opens at the
         # state so that a replay ending before the record's window (a state at t 0)
         # is still a valid run.
-        done = subprocess.run([str(capsim), "run", "-q", "--resume", str(run_dir), "--set",
-                               f"t_end={t_end}", "--set",
-                               f"t_avg_start={record['state_time']}", "--set",
-                               f"threads={threads}"], capture_output=True, text=True)
+        done = subprocess.run(resume_command(capsim, run_dir, {
+            "t_end": t_end, "t_avg_start": record["state_time"], "threads": threads}, "-q"),
+            capture_output=True, text=True)
         if done.returncode != 0:
             raise ArchiveError(f"archive record {record_dir}: the replay failed "
                                f"(exit {done.returncode}): {done.stderr.strip()}")

@@ -1,18 +1,23 @@
 """One capsim run, or one segment of it, as a workflow job: the command of the run rules.
 
-    python -m pipeline.job --capsim CAPSIM --dir RUN_DIR --log LOG [--pause-at T]
-        [--marker FILE] [--archive DIR --record STUDY/NAME [--final-state] [--restore]]
-        [--archive DIR --restore --restore-runs JSON]
-        [--stopped-ok]
-        [--resume-set KEY=VALUE ...] -- --set KEY=VALUE ...
+    python -m pipeline.job --capsim CAPSIM --log LOG --spec JSON [--threads N]
+        [--pause-at T --segment K] [--archive DIR [--restore]]
+    python -m pipeline.job --capsim CAPSIM --log LOG --archive DIR --restore --specs JSON
+
+The job receives the run itself, a pipeline.run_spec.RunSpec as RunSpec.to_json() writes
+it (--spec; --specs a JSON list of them), and derives all else from it as the workflow
+does: its folder, its capsim command (RunSpec.command()), its archive record
+(RunSpec.record()), its options as capsim resolves them and whether an early stop is a
+result (RunSpec.stop_is_result). Nothing is parsed back from a name or from words.
 
 A folder that holds a checkpoint (a run that was killed, a segment that paused, a run
 restored from the archive, one whose t_end was raised) is continued with `capsim run
---resume RUN_DIR` and the --resume-set keys (those capsim lets change on resume: t_end,
-threads, ...); otherwise the run starts afresh with the keys after `--`. With --pause-at
-the job is one segment of the run: capsim stops at its first checkpoint at or after T
-(`capsim run --pause-at`), and the next segment resumes it to the last bit; a folder whose
-checkpoint is already at T (restored from the archive) runs nothing. Either way:
+--resume RUN_DIR` and the keys capsim lets change on resume (t_end, t_avg_start, threads);
+otherwise the run starts afresh with all its keys. With --pause-at the job is segment K
+of the run: capsim stops at its first checkpoint at or after T (`capsim run
+--pause-at`), the job writes the segment's marker (pipeline.archive.marker()), and the
+next segment resumes it to the last bit; a folder whose checkpoint is already at T
+(restored from the archive) runs nothing. Either way:
 
 - capsim's output is appended to LOG after one line that says what this attempt does
   (snakemake removes a job's old log before it starts the job, so there LOG holds the
@@ -27,22 +32,21 @@ checkpoint is already at T (restored from the archive) runs nothing. Either way:
   wall seconds, threads, machine, date, commit, physics version, how it ended), a failed
   or killed one too (its CPU time was spent: the record counts it), and with --archive
   the folder is recorded in the results archive (pipeline.archive) at once, as the run
-  of the options after `--` (resolved by `capsim params --json`): a segment computed is
-  a segment kept. A folder that holds another run is not recorded, and a record of
+  of the spec's options (resolved by `capsim params --json`): a segment computed is a
+  segment kept. A folder that holds another run is not recorded, and a record of
   another run is never replaced: the job says so and what to do, and succeeds (the run
   is in RUN_DIR);
 - with --restore the job computes nothing: it restores the record into RUN_DIR (the
-  whole run, or with --pause-at its state and the segment's --marker), checked against
-  the options after `--` (pipeline.archive.restore_run); with --restore-runs, each run
-  of a list, whole (one job restores every finished run: a job per run cost a process
-  start each);
+  whole run, or with --pause-at its state and the segment's marker), checked against
+  the spec's options (pipeline.archive.restore_run); with --specs, each run of a list,
+  whole (one job restores every finished run: a job per run cost a process start each);
 - a failure ends with one line on stderr and in LOG naming the run, how capsim ended
   (its exit status, or the signal that killed it), its error message and LOG.
 
 Exit status 3 (capsules in contact, numerical failure: summary.json says how the run
-`ended`) is a success with --stopped-ok (the suspension runs, whose tables and figures
-name such runs) and a failure without it. Any other non-zero status is a failure; the
-job's own status is then capsim's (128 + N for signal N).
+`ended`) is a success where the spec says an early stop is a result (every run but the
+dilute study's: RunSpec.stop_is_result) and a failure otherwise. Any other non-zero
+status is a failure; the job's own status is then capsim's (128 + N for signal N).
 
 failure_report(snakemake_logs), which the Snakefile's onerror handler prints, lists at the
 end of a failed snakemake the jobs that failed in it (with --keep-going they are far
@@ -65,19 +69,12 @@ from pathlib import Path
 
 import h5py
 
-from pipeline.run_spec import ROOT, physics_version, resolved_options
+from pipeline import archive
+from pipeline.run_spec import ROOT, RunSpec, physics_version
 
 STOPPED = 3  # capsim: the run stopped early (contact, numerical failure)
 START = "job: start"  # the first line of each attempt in the log
 FAILED = "job: run "  # the last line of a failed one
-
-
-def capsim_command(capsim, run_dir, fresh_args, resume_args, pause_at=None):
-    """The capsim command line for RUN_DIR, and whether it resumes."""
-    pause = ["--pause-at", str(pause_at)] if pause_at is not None else []
-    if (Path(run_dir) / "checkpoint.h5").exists():
-        return [capsim, "run", "-q", "--resume", str(run_dir), *resume_args, *pause], True
-    return [capsim, "run", "-q", *fresh_args, "-o", str(run_dir), *pause], False
 
 
 def checkpoint_time(run_dir):
@@ -164,12 +161,6 @@ def _children_cpu():
     return usage.ru_utime + usage.ru_stime
 
 
-def _threads(cmd):
-    """The threads=N of a capsim command line (None where it sets none)."""
-    values = [a.split("=", 1)[1] for a in cmd if a.startswith("threads=")]
-    return int(values[-1]) if values else None
-
-
 class Terminated(Exception):
     """The job was told to stop (SIGTERM, SIGINT): capsim is killed, the attempt kept."""
 
@@ -183,10 +174,11 @@ def _job_environment():
     return {"OMP_WAIT_POLICY": "passive", **os.environ}
 
 
-def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False, pause_at=None):
-    """Runs (or resumes) one capsim run, or its segment to PAUSE_AT, with its output
-    appended to LOG; returns the job's exit status (0 for success)."""
-    cmd, resumed = capsim_command(capsim, run_dir, fresh_args, resume_args, pause_at)
+def run_job(capsim, spec, log, threads, pause_at=None):
+    """Runs (or resumes) one capsim run (a RunSpec), or its segment to PAUSE_AT, with its
+    output appended to LOG; returns the job's exit status (0 for success)."""
+    run_dir = spec.folder
+    cmd, resumed = spec.command(capsim, threads, pause_at)
     Path(log).parent.mkdir(parents=True, exist_ok=True)
     with open(log, "ab") as out:
         try:
@@ -217,12 +209,12 @@ def run_job(capsim, run_dir, log, fresh_args, resume_args, stopped_ok=False, pau
             for s, handler in zip((signal.SIGTERM, signal.SIGINT), previous):
                 signal.signal(s, handler)
             record_segment(run_dir, t_from, _children_cpu() - cpu_before,
-                           time.monotonic() - wall_before, _threads(cmd),
+                           time.monotonic() - wall_before, threads,
                            how_it_ended(returncode))
         summary = Path(run_dir) / "summary.json"
         if returncode == 0:
             return 0
-        if returncode == STOPPED and summary.exists() and stopped_ok:
+        if returncode == STOPPED and summary.exists() and spec.stop_is_result:
             print(f"job: {run_dir} stopped early (see 'ended' in {summary}): {log}",
                   file=sys.stderr)
             return 0
@@ -293,92 +285,92 @@ def _say(log, line):
         out.write(line + "\n")
 
 
-def record_job(args, fresh):
-    """Records the run folder in the archive; where it cannot be (another run in the
-    folder or in the record, an archive that cannot be written), says why and what to
+def record_run(spec, capsim, archive_root):
+    """Records the run's folder in the archive, as the run of its spec's options as capsim
+    resolves them. Raises pipeline.archive.ArchiveError (another run in the folder or in
+    the record) or OSError (an archive that cannot be written)."""
+    archive.collect(spec.folder, spec.record(archive_root), spec.resolved_options(capsim),
+                    final_state=spec.dilute)
+
+
+def record_job(args, spec):
+    """Records the run folder in the archive; where it cannot be, says why and what to
     do, and the job still succeeds: the run is in its folder."""
-    from pipeline import archive
-    record = Path(args.archive) / args.record
     try:
-        archive.collect(args.dir, record, resolved_options(args.capsim, fresh),
-                        final_state=args.final_state)
+        record_run(spec, args.capsim, args.archive)
     except (archive.ArchiveError, OSError) as e:
-        _say(args.log, f"job: {args.dir} NOT RECORDED in the archive: {e}")
+        _say(args.log, f"job: {spec.folder} NOT RECORDED in the archive: {e}")
 
 
-def restore_job(args, fresh):
-    """The job of the restore rules: each record into its run folder (--dir, --record and
-    the options after `--`, or each run of --restore-runs); exit 1 where one cannot be,
-    the record named."""
-    from pipeline import archive
-    runs = json.loads(args.restore_runs) if args.restore_runs else [
-        (args.record, args.dir, fresh)]
-    marker = Path(args.marker) if args.marker else None
-    if marker is not None and marker.parent != Path(args.dir):
-        raise SystemExit(f"job: --marker {marker} is not in --dir {args.dir}")
+def restore_job(args, specs):
+    """The job of the restore rules: each run's record into its folder (whole, or with
+    --pause-at to continue from its state, with the segment's marker); exit 1 where one
+    cannot be, the record named."""
     status = 0
-    for record, run_dir, words in runs:
+    for spec in specs:
+        record = spec.record(args.archive)
+        marker = archive.marker(spec.folder, args.segment).name if args.segment else None
         try:
-            done = archive.restore_run(Path(args.archive) / record, run_dir,
-                                       resolved_options(args.capsim, words), args.pause_at,
-                                       marker.name if marker else None)
+            done = archive.restore_run(record, spec.folder,
+                                       spec.resolved_options(args.capsim), args.pause_at,
+                                       marker)
         except (archive.ArchiveError, OSError) as e:
-            _say(args.log, f"job: {run_dir} not restored: {e}")
+            _say(args.log, f"job: {spec.folder} not restored: {e}")
             status = 1
             continue
-        _say(args.log, f"job: {run_dir} " + ("restored from " if done else
-                                              "already holds ") + record)
+        _say(args.log, f"job: {spec.folder} " + ("restored from " if done else
+                                                 "already holds ") + str(record))
     return status
 
 
-def main(argv=None):
-    argv = sys.argv[1:] if argv is None else list(argv)
-    fresh = []
-    if "--" in argv:
-        cut = argv.index("--")
-        argv, fresh = argv[:cut], argv[cut + 1:]
+def arguments(argv):
+    """The job's command line, checked."""
     ap = argparse.ArgumentParser(description="Run or resume one capsim run as a job.")
     ap.add_argument("--capsim", required=True, help="the capsim executable")
-    ap.add_argument("--dir", help="the run folder (capsim -o)")
     ap.add_argument("--log", required=True, help="the job's log, appended to")
-    ap.add_argument("--resume-set", action="append", default=[], metavar="KEY=VALUE",
-                    help="a key given on resume (t_end, threads, ...)")
-    ap.add_argument("--stopped-ok", action="store_true",
-                    help="a run that stopped early (exit 3, summary.json written) succeeds")
+    ap.add_argument("--spec", type=RunSpec.from_json, metavar="JSON",
+                    help="the run (RunSpec.to_json())")
+    ap.add_argument("--specs", type=lambda text: [RunSpec.from_json(s)
+                                                  for s in json.loads(text)],
+                    metavar="JSON", help="with --restore: restore each run of a JSON list "
+                    "of specs, whole, instead of --spec")
+    ap.add_argument("--threads", type=int, default=1, help="capsim's threads")
     ap.add_argument("--pause-at", type=float, metavar="T",
                     help="run one segment: to the first checkpoint at or after strain T")
-    ap.add_argument("--marker", help="with --pause-at: the file that says the segment "
-                    "is done (the output of a segment job)")
+    ap.add_argument("--segment", type=int, metavar="K",
+                    help="with --pause-at: the segment's number (its marker, the output "
+                    "of a segment job)")
     ap.add_argument("--archive", help="the results archive to record the folder in")
-    ap.add_argument("--record", help="with --archive: the record's name, STUDY/NAME")
-    ap.add_argument("--final-state", action="store_true",
-                    help="with --archive: a finished run keeps its last checkpoint")
     ap.add_argument("--restore", action="store_true",
-                    help="with --archive: restore the record into --dir, run nothing")
-    ap.add_argument("--restore-runs", metavar="JSON",
-                    help="with --archive --restore: restore each [record, run folder, "
-                    "[--set words]] of a JSON list instead (--dir and --record unused)")
+                    help="with --archive: restore the record into the folder, run nothing")
     args = ap.parse_args(argv)
-    if not (args.dir or args.restore_runs):
-        ap.error("--dir is required")
-    if args.archive and not (args.record or args.restore_runs):
-        ap.error("--archive needs --record")
+    if (args.spec is None) == (args.specs is None):
+        ap.error("give --spec, or --specs with --restore")
+    if args.specs is not None and not args.restore:
+        ap.error("--specs needs --restore")
+    if args.restore and not args.archive:
+        ap.error("--restore needs --archive")
+    if (args.pause_at is None) != (args.segment is None):
+        ap.error("--pause-at and --segment go together")
+    return args
+
+
+def main(argv=None):
+    args = arguments(sys.argv[1:] if argv is None else list(argv))
     if args.restore:
-        if not args.archive:
-            ap.error("--restore needs --archive")
-        return restore_job(args, fresh)
-    resume = [a for kv in args.resume_set for a in ("--set", kv)]
-    reached = checkpoint_time(args.dir)
-    if args.pause_at is not None and (stopped(args.dir) or
+        return restore_job(args, args.specs or [args.spec])
+    spec = args.spec
+    reached = checkpoint_time(spec.folder)
+    if args.pause_at is not None and (stopped(spec.folder) or
                                       (reached is not None and reached >= args.pause_at)):
         status = 0  # restored past this segment's end, or stopped early before it
     else:
-        status = run_job(args.capsim, args.dir, args.log, fresh, resume, args.stopped_ok,
-                         args.pause_at)
+        status = run_job(args.capsim, spec, args.log, args.threads, args.pause_at)
     if status == 0 and args.archive:
-        record_job(args, fresh)
-    if status == 0 and args.marker:
-        Path(args.marker).write_text(json.dumps({"t": checkpoint_time(args.dir)}) + "\n")
+        record_job(args, spec)
+    if status == 0 and args.segment:
+        archive.marker(spec.folder, args.segment).write_text(
+            json.dumps({"t": checkpoint_time(spec.folder)}) + "\n")
     return status
 
 

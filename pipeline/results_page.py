@@ -29,6 +29,9 @@ from pipeline.run_spec import ROOT, physics_version
 FIGURES = [f"fig{n:02d}" for n in range(3, 13)]  # the paper's results, figures 3-12
 LARGEST = 5  # disagreements shown first
 REDUCE = 2  # the committed PNGs keep 1 / REDUCE of the pixels in each direction
+# (column title, average, its standard error) of the eb -> 0 table on the page
+SHOWN_LIMITS = [("<D>", "D", "D_se"), ("theta_D", "theta_D_deg", "theta_D_se_deg"),
+                ("mu_sp", "mu_sp", "mu_sp_se"), ("N1", "N1", "N1_se"), ("N2", "N2", "N2_se")]
 CLASS_NAMES = {"number": "numbers", "trend": "trends", "other-paper": "other papers",
                "analytic": "analytic"}
 
@@ -93,6 +96,37 @@ def windows(results):
             lines.append(f"- {study}{' (' + what + ')' if what else ''}: gammadot t in "
                          + ", ".join(spans) + (f" (stopped early: {stops})" if stops else ""))
     return lines
+
+
+def paper_membrane_lines(results):
+    """The points that carry bending by the paper's membrane (results/eblimit/table.csv,
+    analysis.bending_limit): each average's limit eb -> 0 with its standard error and the
+    correction from the grid's run with bending; none where the study is not there."""
+    path = results / "eblimit" / "table.csv"
+    if not path.exists():
+        return []
+    table = pd.read_csv(path)
+
+    def cell(row, q, se):
+        if pd.isna(row[q]):
+            return f"none ({row['membrane']}: {row[q + '_eb']:.4g})"
+        return (f"{row[q]:.4g} +- {row[se]:.2g} ({100 * row[q + '_correction']:+.1f} %)")
+
+    cells = pd.DataFrame([{"Ca": f"{r['ca']:g}", "phi": f"{r['phi']:g}",
+                           "runs (eb)": str(r["moduli"]),
+                           "ended": str(r["short"]) if isinstance(r.get("short"), str)
+                           and r["short"] else str(r["ended"]),
+                           **{name: cell(r, q, se) for name, q, se in SHOWN_LIMITS}}
+                          for r in table.to_dict("records")])
+    return ["## The paper's membrane where it folds", "",
+            "Where the paper's membrane folds at this mesh, the grid runs a bending "
+            "membrane; each such point is run again at smaller moduli and every average "
+            "extrapolated to eb -> 0 (`analysis/bending_limit.py`, `docs/suspensions.md`). "
+            "Each cell: the limit +- its standard error (statistical and the "
+            "extrapolation's own miss on one capsule, in quadrature), and in brackets the "
+            "correction from the grid's run with bending; a point whose run at a smaller "
+            "modulus stopped within the first half of the window has no limit and keeps "
+            "its run with bending, left out of the claims.", "", markdown_table(cells), ""]
 
 
 def claims_list(numbers):
@@ -165,7 +199,8 @@ def page(results, label, figures, figure_dir, store=None, date=None, numbers=Non
               "(`docs/suspensions.md`, `docs/dilute_limit.md`).", "",
               (results / "figures" / "paper_comparison.md").read_text().strip(), "",
               "## Table 1", "", (results / "figures" / "table1.md").read_text().strip(),
-              "", "## Averaging windows", ""] + windows(results) + [
+              ""] + paper_membrane_lines(results) + [
+              "## Averaging windows", ""] + windows(results) + [
               "", "## Figures", "",
               f"Reduced to 1/{REDUCE} of their pixels in each direction; full size in "
               "`results/figures/`.", ""]

@@ -1,15 +1,19 @@
-"""One capsim run of the workflow, described once: its folder name, its capsim options,
-its provenance key, its segments and its estimated cost.
+"""One capsim run of the workflow, described once: its folder name, its capsim command
+lines (fresh and resumed), its archive record and provenance key, its segments and its
+estimated cost.
 
-Every study asks for runs as RunSpec objects; the generic run rule (workflow/rules/runs.smk),
-the results archive (pipeline.archive) and the job (pipeline.job) all read them from here,
-so a folder name or an option is spelled in one place.
+Every study asks for runs as RunSpec objects. The workflow hands the job the spec itself
+(RunSpec.to_json(), pipeline.job --spec), and the job, the results archive
+(pipeline.archive) and the workflow's rules derive everything else from it here: a folder
+name, a command line or a record is spelled in this module only and never parsed back.
 
 A suspension run folder names all that distinguishes the run within a configuration:
     ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>]
 (the membrane code of analysis.membrane where the run does not carry the paper's), a
-dilute run (one capsule in unbounded shear) ca<Ca>_level<level>. A study whose runs
-differ in more than these (the accuracy study: Ewald tolerance, time scheme, length; the
+dilute run (one capsule in unbounded shear) ca<Ca>_level<level>, or
+dilute_ca<Ca>_level<level>_<membrane> where it does not carry the paper's membrane. A
+number is spelt as number() writes it (0.05, 1e-05; 1.0 as 1). A study whose runs differ
+in more than these (the accuracy study: Ewald tolerance, time scheme, length; the
 sensitivity study: the membrane always named) names them itself (RunSpec.label).
 
 The provenance key is a hash of the physics version (solver/PHYSICS_VERSION) and every
@@ -33,7 +37,7 @@ from pathlib import Path
 
 from analysis import membrane as membrane_codes
 from analysis.accuracy import time_options
-from pipeline.command_line import option_value, set_arguments
+from pipeline.command_line import option_value, resume_command, run_command, set_arguments
 
 ROOT = Path(__file__).resolve().parent.parent
 PHYSICS_VERSION_FILE = ROOT / "solver" / "PHYSICS_VERSION"
@@ -60,6 +64,14 @@ ADDED_OPTIONS = {
 # or a prefix of keys).
 NOT_IN_KEY = ("t_end", "t_avg_start", "threads", "backend")
 UNUSED_BY_DILUTE = ("method", "seed", "ewald.", "suspension.")
+
+
+def number(value):
+    """A number as a folder name spells it: the shortest text that reads back as the same
+    float, without a trailing ".0" (Ca 1 and 1.0 are one run, ca1). Every name the
+    archives hold reads the same as before (0.05, 0.0125: what both str() and :g gave)."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
 
 
 def physics_version():
@@ -166,18 +178,44 @@ class RunSpec:
 
     @property
     def name(self):
+        """The run's folder name (the module's docstring)."""
         if self.label:
             return self.label
+        paper = self.membrane == membrane_codes.PAPER
         if self.dilute:
-            return f"ca{self.ca}_level{self.level}"
-        suffix = "" if self.membrane == membrane_codes.PAPER else "_" + self.membrane
-        return (f"ca{self.ca}_phi{self.phi}_M{self.M}_level{self.level}_seed{self.seed}"
-                f"{suffix}")
+            return (f"ca{number(self.ca)}_level{self.level}" if paper else
+                    f"dilute_ca{number(self.ca)}_level{self.level}_{self.membrane}")
+        return (f"ca{number(self.ca)}_phi{number(self.phi)}_M{self.M}_level{self.level}"
+                f"_seed{self.seed}{'' if paper else '_' + self.membrane}")
 
     @property
     def folder(self):
         """The run folder, relative to the workflow's working directory."""
         return f"results/{self.study}/{self.name}"
+
+    @property
+    def stop_is_result(self):
+        """Whether capsim stopping the run early (exit 3: contact, numerical failure, with
+        summary.json) is a result: for every run but the dilute study's, whose table has
+        no row for a stopped run."""
+        return self.study != "dilute"
+
+    def record(self, archive_root):
+        """The run's record in a results archive: <archive>/<study>/<name>, the run
+        folder's own path under results/."""
+        return Path(archive_root) / self.study / self.name
+
+    def to_json(self):
+        """The spec as the job receives it (pipeline.job --spec): every field, so that
+        the job derives what the workflow would (from_json() reads it back equal)."""
+        return json.dumps(dataclasses.asdict(self), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text):
+        """The RunSpec that to_json() wrote (a JSON string, or the dict it holds)."""
+        fields = json.loads(text) if isinstance(text, str) else dict(text)
+        fields["options"] = tuple(tuple(pair) for pair in fields["options"])
+        return cls(**fields)
 
     def trajectory_options(self):
         """The capsim options that fix the trajectory, as a dict in command-line order
@@ -196,8 +234,25 @@ class RunSpec:
 
     def capsim_options(self, threads):
         """Every `--set` of a fresh start, as a dict."""
-        return {**self.trajectory_options(), "t_end": self.t_end,
-                "t_avg_start": self.t_avg_start, "threads": threads}
+        return {**self.trajectory_options(), **self.resume_options(threads)}
+
+    def resume_options(self, threads):
+        """Every `--set` of a resume: the keys capsim lets change on resume (it refuses
+        the rest), so that a raised t_end or another thread count carries on the run."""
+        return {"t_end": self.t_end, "t_avg_start": self.t_avg_start, "threads": threads}
+
+    def command(self, capsim, threads, pause_at=None, root="."):
+        """The `capsim run` command of the run's next stretch, and whether it resumes:
+        from the checkpoint of its folder (under `root`, the working directory by
+        default) where there is one (a killed job, a paused segment, a state restored
+        from the archive), else afresh; with pause_at, to the first checkpoint at or
+        after that strain (one segment)."""
+        folder = Path(root) / self.folder
+        flags = ["-q"] + ([] if pause_at is None else ["--pause-at", str(pause_at)])
+        if (folder / "checkpoint.h5").exists():
+            cmd = resume_command(capsim, folder, self.resume_options(threads), *flags)
+            return cmd, True
+        return run_command(capsim, self.capsim_options(threads), folder, *flags), False
 
     def resolved_options(self, capsim):
         """The run's options as capsim resolves them (resolved_options())."""

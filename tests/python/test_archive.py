@@ -81,6 +81,13 @@ def run_jobs(dry_run_output):
     return counts
 
 
+def written_outside_snakemake(workdir):
+    """The files under a working directory but for snakemake's own bookkeeping
+    (.snakemake/): what the workflow wrote."""
+    return [p for p in Path(workdir).rglob("*")
+            if p.is_file() and ".snakemake" not in p.relative_to(workdir).parts]
+
+
 def series(run_dir):
     with h5py.File(run_dir / "timeseries.h5", "r") as f:
         out = {}
@@ -198,6 +205,7 @@ def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
     assert "physics version" not in dry.stderr and "other options" not in dry.stderr
     assert run_jobs(dry.stdout).get("run", 0) == 0
     assert "main studies: 0 of 66 runs to compute" in dry.stderr
+    assert written_outside_snakemake(tmp_path) == [], "a dry run wrote files"
     # Complete: the figures, Table 1, the comparison with the paper and the check come
     # from the archive alone, and the check (config/expected/paper.yaml) passes.
     full = subprocess.run([exe, "--cores", "2", "--snakefile", str(ROOT / "Snakefile"),
@@ -300,7 +308,8 @@ def test_case1_a_dry_run_writes_nothing_and_keeps_records_of_another_run(study, 
     assert "git rm -r" in out
     assert run_jobs(dry.stdout) == {"run_segment": 4, "run": 2}  # both computed anew
     assert tree(store) == before, "a dry run changed the archive"
-    assert not (tmp_path / "work" / "results").exists(), "a dry run wrote results/"
+    # Nothing but study.yaml, written by the test itself.
+    assert [p.name for p in written_outside_snakemake(tmp_path / "work")] == ["study.yaml"]
     # Recording over it is refused, naming the record and what to do; it stays as it is.
     with pytest.raises(archive.ArchiveError, match=r"physics version 0.*git rm -r"):
         archive.collect(study["base"] / "restored" / RUNS[0], old, stored_options(study))
@@ -428,17 +437,19 @@ def test_case7_a_space_in_the_path_an_unwritable_archive_an_empty_summary(
     # Every job recorded into the fixture's archive, whose path holds a space.
     assert " " in str(study["store"]) and len(archive.read_records([study["store"]])) == 2
     # An archive that cannot be written: the job says so and succeeds (the run is kept).
-    run_dir = tmp_path / "run"
+    spec = study_spec()
+    run_dir = tmp_path / spec.folder
     shutil.copytree(study["base"] / "restored" / RUNS[0], run_dir)
+    monkeypatch.chdir(tmp_path)
 
     def unwritable(*args, **kwargs):
         raise PermissionError(13, "Permission denied", str(study["store"]))
 
     monkeypatch.setattr(archive, "collect", unwritable)
     log = tmp_path / "job.log"
-    status = job.main(["--capsim", str(CAPSIM), "--dir", str(run_dir), "--log", str(log),
-                       "--pause-at", "0.2", "--archive", str(study["store"]), "--record",
-                       "initial/x", "--", "--set", "ca=0.4"])
+    status = job.main(["--capsim", str(CAPSIM), "--log", str(log), "--spec", spec.to_json(),
+                       "--pause-at", "0.2", "--segment", "1", "--archive",
+                       str(study["store"])])
     assert status == 0 and "NOT RECORDED" in log.read_text()
     assert "Permission denied" in log.read_text()
     # An empty summary.json: named, with what to do.
@@ -447,7 +458,7 @@ def test_case7_a_space_in_the_path_an_unwritable_archive_an_empty_summary(
         archive.reached(run_dir)
 
 
-def test_case8_a_killed_attempt_s_cpu_time_is_in_the_segments(tmp_path):
+def test_case8_a_killed_attempt_s_cpu_time_is_in_the_segments(tmp_path, monkeypatch):
     fake = tmp_path / "capsim"
     fake.write_text(f"#!{sys.executable}\n"
                     "import os, signal, time\n"
@@ -456,9 +467,11 @@ def test_case8_a_killed_attempt_s_cpu_time_is_in_the_segments(tmp_path):
                     "    pass\n"
                     "os.kill(os.getpid(), signal.SIGKILL)\n")
     fake.chmod(0o755)
-    run_dir = tmp_path / "run"
-    run_dir.mkdir()
-    status = job.run_job(str(fake), run_dir, tmp_path / "run.log", ["--set", "ca=0.4"], [])
+    spec = study_spec()
+    run_dir = tmp_path / spec.folder
+    run_dir.mkdir(parents=True)
+    monkeypatch.chdir(tmp_path)
+    status = job.run_job(str(fake), spec, tmp_path / "run.log", threads=1)
     assert status == 128 + 9
     segments = json.loads((run_dir / "segments.json").read_text())
     assert len(segments) == 1 and segments[0]["cpu_seconds"] >= 0.25

@@ -53,7 +53,7 @@ def test_three_moduli_give_the_weighted_least_squares_intercept():
 
 def _row(eb, scale, se=1e-3):
     """A run's averages that fall linearly with eb (slope -scale per unit eb, relative)."""
-    out = {"eb": eb, "t_end": 30.0, "ended": "t_end"}
+    out = {"eb": eb, "t_start": 10.0, "t_end": 30.0, "ended": "t_end"}
     for q in bl.QUANTITIES:
         out[q] = 1.0 - scale * eb
         out[bl.SE.get(q, f"{q}_se")] = se
@@ -73,5 +73,53 @@ def test_a_point_extrapolates_and_carries_the_dilute_miss_as_its_model_error():
         assert row[f"{q}_correction"] == pytest.approx(1 / 0.95 - 1)
         assert row[f"{q}_model"] == pytest.approx(0.01)
         statistical = math.hypot(2e-3, 1e-3)
-        assert row[f"{q}_se"] == pytest.approx(math.hypot(statistical, 0.01))
+        assert row[bl.SE.get(q, f"{q}_se")] == pytest.approx(math.hypot(statistical, 0.01))
     assert row["moduli"] == "0.0125 0.025" and row["ended"] == "t_end t_end"
+
+
+def test_every_average_of_a_run_row_is_extrapolated_and_the_stresslet_without_error():
+    row = {"ca": 0.5, "phi": 0.1, "t_end": 30.0, "count": 200, "D": 0.5, "D_se": 1e-3,
+           "theta_D_deg": 20.0, "theta_D_se_deg": 0.1, "S_xy": 1.0, "membrane": "eb0.025",
+           "ended": "t_end", "volume_error_max": 1e-4, "intrinsic": 0}
+    assert bl.averaged_columns(row) == [("D", "D_se"), ("theta_D_deg", "theta_D_se_deg"),
+                                        ("S_xy", None)]
+
+
+def test_a_dilute_value_near_zero_gives_no_relative_miss():
+    dilute = [{"eb": 0.0125, "D_std": 1e-4, "D_std_se": 1e-4},
+              {"eb": 0.025, "D_std": 2e-4, "D_std_se": 1e-4}]
+    assert bl.relative_miss(dilute, {"D_std": 5e-4, "D_std_se": 1e-4}, "D_std",
+                            "D_std_se") is None
+    assert bl.relative_miss(dilute, {"D_std": 0.1, "D_std_se": 1e-4}, "D_std",
+                            "D_std_se") == pytest.approx(-1.0)
+
+
+def test_the_paper_membrane_table_replaces_only_the_points_with_bending():
+    import pandas as pd
+
+    grid = pd.DataFrame([
+        {"ca": 0.5, "phi": 0.05, "intrinsic": 0, "D": 0.48, "D_se": 1e-3, "t_end": 30.0,
+         "ended": "t_end", "membrane": "paper"},
+        {"ca": 0.5, "phi": 0.1, "intrinsic": 0, "D": 0.45, "D_se": 1e-3, "t_end": 30.0,
+         "ended": "t_end", "membrane": "eb0.025"},
+        {"ca": 0.5, "phi": 0.0, "intrinsic": 1, "D": 0.47, "D_se": 1e-4, "t_end": 30.0,
+         "ended": "t_end", "membrane": "paper"}])
+    limits = pd.DataFrame([{"ca": 0.5, "phi": 0.1, "D": 0.49, "D_se": 4e-3, "D_eb": 0.45,
+                            "moduli": "0.0125 0.025", "ended": "contact t_end",
+                            "window_end": 24.0, "membrane": "eb0.025"}])
+    out = bl.paper_membrane(grid, limits)
+    assert list(out["D"]) == [0.48, 0.49, 0.47] and list(out["D_se"]) == [1e-3, 4e-3, 1e-4]
+    assert list(out["membrane"]) == ["paper"] * 3
+    assert list(out["obtained"]) == ["run", "eb -> 0 from eb 0.0125 0.025", "run"]
+    assert out.loc[1, "t_end"] == 24.0 and out.loc[1, "ended"] == "contact"
+    assert "D_eb" not in out
+
+
+def test_a_point_whose_run_stopped_early_in_its_window_has_no_limit_and_says_why():
+    point = bl.points(GRID)[0]
+    stopped = {**_row(0.0125, 2.0), "t_end": 11.07, "ended": "contact"}
+    row = bl.point_row(point, [stopped, _row(0.025, 2.0)], [_row(0.0125, 1.0, 1e-5),
+                       _row(0.025, 1.0, 1e-5)], {q: 1.0 for q in bl.QUANTITIES},
+                       min_window=10.0)
+    assert math.isnan(row["D"]) and row["D_eb"] == pytest.approx(0.95)
+    assert row["short"] == "eb 0.0125 stopped at 11.1 (contact), window under 10"

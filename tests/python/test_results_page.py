@@ -75,3 +75,20 @@ def test_the_headline_counts_the_verdicts_of_the_committed_page():
     text = (ROOT / "docs" / "results.md").read_text()
     assert "## Headline" in text and "- trends:" in text and "- other papers:" in text
     assert set(pc.CLASSES) == set(results_page.CLASS_NAMES)
+
+
+def test_the_points_by_the_paper_s_membrane_show_limit_error_and_correction(tmp_path):
+    import pandas as pd
+    from pipeline import results_page
+
+    (tmp_path / "eblimit").mkdir()
+    row = {"ca": 0.5, "phi": 0.1, "membrane": "eb0.025", "moduli": "0.0125 0.025",
+           "ended": "t_end t_end", "short": ""}
+    for name, q, se in results_page.SHOWN_LIMITS:
+        row.update({q: 0.5, se: 0.004, f"{q}_correction": 0.078, f"{q}_eb": 0.4638})
+    stopped = {**row, "phi": 0.4, "D": float("nan"), "short": "eb 0.0125 stopped at 11.1"}
+    pd.DataFrame([row, stopped]).to_csv(tmp_path / "eblimit" / "table.csv", index=False)
+    text = "\n".join(results_page.paper_membrane_lines(tmp_path))
+    assert "| 0.5 | 0.1 | 0.0125 0.025 | t_end t_end | 0.5 +- 0.004 (+7.8 %) |" in text
+    assert "eb 0.0125 stopped at 11.1" in text and "none (eb0.025: 0.4638)" in text
+    assert results_page.paper_membrane_lines(tmp_path / "nothing") == []

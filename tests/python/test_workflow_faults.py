@@ -26,6 +26,7 @@ import yaml
 
 from pipeline.command_line import set_arguments
 from pipeline.job import run_job
+from pipeline.run_spec import RunSpec
 from analysis.read_run import read_timeseries
 from analysis.tables import read_table
 
@@ -47,6 +48,9 @@ BAD_RUN_CONFIG = {
              "t_end": 0.3},
 }
 BAD_RUN = "results/mesh/ca0.4_phi0.2_M2_level1_seed1"
+
+# A dilute run of a tenth of a strain unit, for the job alone.
+TINY_SPEC = RunSpec(study="dilute", ca=0.2, level=1, t_end=0.1, t_avg_start=0.0)
 
 # One grid run long enough to be killed midway (a few seconds), checkpointed often; its
 # step and Ewald tolerance pinned, so that the defaults' speed does not shorten it.
@@ -126,7 +130,8 @@ def test_jobs_threads_sleep_while_they_wait_unless_told_otherwise(tmp_path, monk
     else:
         monkeypatch.setenv("OMP_WAIT_POLICY", given)
     log = tmp_path / "job.log"
-    assert run_job(str(fake), str(tmp_path / "run"), str(log), [], []) == 0
+    monkeypatch.chdir(tmp_path)
+    assert run_job(str(fake), TINY_SPEC, str(log), threads=1) == 0
     assert f"policy={expected}\n" in log.read_text()
 
 
@@ -211,14 +216,14 @@ def test_killed_run_resumes_and_a_second_snakemake_is_locked_out(tmp_path):
     assert "resuming from its checkpoint" in log and f"--resume {LONG_RUN}" in log
 
 
-def test_second_job_for_a_running_run_is_refused(tmp_path, capsys):
+def test_second_job_for_a_running_run_is_refused(tmp_path, capsys, monkeypatch):
     # What a second snakemake started after --unlock would do while the first's capsim
     # still runs: the log is locked, so the job refuses before touching the folder.
     log = tmp_path / "run.log"
+    monkeypatch.chdir(tmp_path)
     with open(log, "ab") as held:
         fcntl.flock(held.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        status = run_job(str(CAPSIM), str(tmp_path / "run"), str(log),
-                         ["--set", "t_end=0.1"], [])
+        status = run_job(str(CAPSIM), TINY_SPEC, str(log), threads=1)
     assert status == 1
     assert "is already running" in capsys.readouterr().err
-    assert not (tmp_path / "run").exists() and log.read_text() == ""
+    assert not (tmp_path / "results").exists() and log.read_text() == ""

@@ -6,6 +6,9 @@
 # start each, a minute of the main command); a run to continue is restored by the job of
 # the last segment its state covers. Rule order puts both before run and run_segment.
 import json
+import shlex
+
+from pipeline.job import record_run
 
 
 def restore_segment_input(wc):
@@ -22,12 +25,10 @@ def restore_segment_input(wc):
 def restore_command():
     """The command of rule restore: pipeline.job restoring, each from its record, every
     run that archive_plan() restores whole."""
-    runs = [(f"{RUNS[folder].study}/{RUNS[folder].name}", folder,
-             set_arguments(RUNS[folder].capsim_options(threads=1)))
-            for folder in archive_plan()["restore"]]
+    specs = [json.loads(RUNS[folder].to_json()) for folder in archive_plan()["restore"]]
     return shlex.join([PYTHON, "-m", "pipeline.job", "--capsim", CAPSIM, "--log",
                        os.path.join("results", "logs", "restore.log"), "--archive", ARCHIVE,
-                       "--restore", "--restore-runs", json.dumps(runs)])
+                       "--restore", "--specs", json.dumps(specs)])
 
 
 if ARCHIVE and archive_plan()["restore"]:
@@ -74,10 +75,8 @@ if ARCHIVE:
         localrule: True
         run:
             for folder in archive_plan()["ahead"]:
-                spec = RUNS[folder]
                 try:
-                    archive.collect(folder, os.path.join(ARCHIVE, spec.study, spec.name),
-                                    spec.resolved_options(CAPSIM), final_state=spec.dilute)
+                    record_run(RUNS[folder], CAPSIM, ARCHIVE)
                     print(f"archive: recorded {folder}", file=sys.stderr)
                 except (archive.ArchiveError, OSError) as e:
                     print(f"archive: {folder} NOT RECORDED: {e}", file=sys.stderr)

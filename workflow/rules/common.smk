@@ -1,26 +1,24 @@
 # The workflow's functions and shared names, apart from its rules (as Snakemake's linter
 # wants). Every run is a pipeline.run_spec.RunSpec: its folder results/<study>/<name>/
-# (suspensions ca<Ca>_phi<phi>_M<M>_level<level>_seed<seed>[_<membrane>], dilute runs
-# ca<Ca>_level<level>, the accuracy and sensitivity studies' as they name them), its
-# capsim options, its provenance key and its segments all come
-# from there. A run that two studies both need is made once, in the folder of the first of
-# them in SUSPENSION_STUDIES.
+# (named there only), its capsim command lines, its archive record, its provenance key
+# and its segments all come from there, and a rule finds it by its folder in RUNS
+# (run_of()), never by parsing the name. A run that two studies both need is made once,
+# in the folder of the first of them in SUSPENSION_STUDIES.
 import functools
-import re
-import shlex
 from modulefinder import ModuleFinder
 
 from analysis import accuracy as accuracy_study
 from analysis import membrane as membrane_codes
 from analysis import sensitivity as sensitivity_study
 from pipeline import archive, results_page, run_spec
-from pipeline.command_line import set_arguments
 
 SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots", "reference"]
 # Studies that only their own target runs, not `all` (their runs take hours and are
 # archived first): study -> function returning the RunSpecs it makes. The archive restores
 # and records them as any run; the estimate of the main studies leaves them out.
 ON_DEMAND_RUNS = {}
+# Studies outside SUSPENSION_STUDIES whose runs `all` needs (eblimit with in_grid).
+MAIN_STUDY_RUNS = {}
 
 
 wildcard_constraints:
@@ -87,9 +85,14 @@ def study_runs(study):
     return [run_summary(study, **keys) for keys in STUDY_KEYS[study]()]
 
 
+def dilute_spec(ca, level):
+    """The RunSpec of the dilute run (one capsule, phi = 0) at Ca and mesh level."""
+    return run_spec.dilute(ca, level, config["dilute"])
+
+
 def dilute_summary(ca, level):
-    """The summary.json of the dilute run (one capsule, phi = 0) at Ca and mesh level."""
-    return os.path.join(run_spec.dilute(ca, level, config["dilute"]).folder, "summary.json")
+    """The summary.json of the dilute run at Ca and mesh level."""
+    return os.path.join(dilute_spec(ca, level).folder, "summary.json")
 
 
 # Filled in by the studies that use dilute runs: functions returning their (Ca, level).
@@ -108,15 +111,18 @@ def main_runs():
             runs[spec.folder] = spec
     for keys in DILUTE_KEYS:
         for ca, level in keys():
-            spec = run_spec.dilute(ca, level, config["dilute"])
+            spec = dilute_spec(ca, level)
             runs[spec.folder] = spec
+    for specs in MAIN_STUDY_RUNS.values():
+        runs.update((spec.folder, spec) for spec in specs())
     return runs
 
 
 def configuration_runs():
     """Every run of the configuration's studies, by folder: what the archive restores
-    and records (the main runs, the on-demand studies', then the accuracy and
-    sensitivity studies')."""
+    and records and what run_of() finds (the main runs, the on-demand studies', then the
+    accuracy and sensitivity studies', and the dilute study's runs that the sensitivity
+    study compares with)."""
     runs = main_runs()
     for specs in ON_DEMAND_RUNS.values():
         runs.update((spec.folder, spec) for spec in specs())
@@ -128,19 +134,25 @@ def configuration_runs():
         spec = run_spec.sensitivity(run, config["run_options"],
                                     config["dilute"].get("options", {}))
         runs[spec.folder] = spec
+    for run in sensitivity_study.dilute_references(config["sensitivity"], config["dilute"]):
+        spec = dilute_spec(run.ca, run.level)
+        runs.setdefault(spec.folder, spec)
     return runs
 
 
+@functools.cache
+def runs_by_name():
+    """RUNS by (study, name): a run folder's wildcards."""
+    return {(spec.study, spec.name): spec for spec in RUNS.values()}
+
+
 def run_of(study, run):
-    """The RunSpec of a run folder's wildcards; a dilute run outside the configuration's
-    lists (the sensitivity study's) from its name."""
-    folder = f"results/{study}/{run}"
-    if folder in RUNS:
-        return RUNS[folder]
-    match = re.fullmatch(r"ca([0-9.eE+-]+)_level(\d+)", run)
-    if study == "dilute" and match:
-        return run_spec.dilute(float(match[1]), int(match[2]), config["dilute"])
-    raise ValueError(f"{folder}: no run of this name in the configuration")
+    """The RunSpec of a run folder's wildcards, looked up (RUNS): a name is never parsed
+    back into a run."""
+    spec = runs_by_name().get((study, run))
+    if spec is None:
+        raise ValueError(f"{study}/{run}: no run of this name in the configuration")
+    return spec
 
 
 def segment_ends(spec):
@@ -149,10 +161,17 @@ def segment_ends(spec):
                              config["segments"].get("strain"))
 
 
+def multipole_runs():
+    """{name: RunSpec} of the dilute runs whose capsules figure 1 reads: one per Ca of
+    config["multipole"]; each one's table is results/multipole/<name>.csv."""
+    specs = (dilute_spec(ca, config["multipole"]["mesh_level"])
+             for ca in config["multipole"]["ca"])
+    return {spec.name: spec for spec in specs}
+
+
 def multipole_tables():
-    """The multipole-error tables of figure 1: one per Ca of config["multipole"]."""
-    return expand(os.path.join("results", "multipole", "ca{ca}_level{level}.csv"),
-                  ca=config["multipole"]["ca"], level=config["multipole"]["mesh_level"])
+    """The multipole-error tables of figure 1 (multipole_runs())."""
+    return [os.path.join("results", "multipole", f"{name}.csv") for name in multipole_runs()]
 
 
 @functools.cache

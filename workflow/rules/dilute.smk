@@ -15,8 +15,8 @@ rule dilute_table:
     input:
         script=figure_script("dilute_table"),
         code=imported_modules(figure_script("dilute_table")),
-        summaries=expand(dilute_summary("{ca}", "{level}"), ca=DILUTE["ca"],
-                         level=DILUTE["mesh_levels"]),
+        summaries=[dilute_summary(ca, level) for ca in DILUTE["ca"]
+                   for level in DILUTE["mesh_levels"]],
     output:
         table="results/dilute/table.md",
         csv="results/dilute/table.csv",

@@ -29,20 +29,20 @@ def eblimit_runs():
             out.append(({"case": "suspension", "ca": point.ca, "phi": point.phi, "eb": eb,
                          "folder": spec.folder}, spec))
     for ca, eb in bending_limit.dilute_cases(EBLIMIT, GRID):
-        paper = run_spec.dilute(ca, level, config["dilute"])
-        spec = dataclasses.replace(paper, study="eblimit", membrane=f"eb{eb:g}",
-                                   label=f"dilute_ca{ca:g}_level{level}_eb{eb:g}")
+        spec = dataclasses.replace(dilute_spec(ca, level), study="eblimit",
+                                   membrane=f"eb{eb:g}")
         out.append(({"case": "dilute", "ca": ca, "phi": 0.0, "eb": eb,
                      "folder": spec.folder}, spec))
     for ca in sorted({point.ca for point in bending_limit.points(GRID)} if EBLIMIT else []):
-        spec = run_spec.dilute(ca, level, config["dilute"])
+        spec = dilute_spec(ca, level)
         out.append(({"case": "reference", "ca": ca, "phi": 0.0, "eb": 0.0,
                      "folder": spec.folder}, spec))
     return out
 
 
-ON_DEMAND_RUNS["eblimit"] = lambda: [spec for _, spec in eblimit_runs()
-                                     if spec.study == "eblimit"]
+IN_GRID = bool(EBLIMIT and EBLIMIT.get("in_grid"))
+(MAIN_STUDY_RUNS if IN_GRID else ON_DEMAND_RUNS)["eblimit"] = lambda: [
+    spec for _, spec in eblimit_runs() if spec.study == "eblimit"]
 
 
 rule eblimit_table:
@@ -61,10 +61,33 @@ rule eblimit_table:
         t_start=config["averages"]["t_start"],
         dilute_t_start=config["dilute"]["t_avg_start"],
     shell:
-        "{params.python} -m analysis.bending_limit --grid {params.grid:q} "
+        "{params.python} -m analysis.bending_limit table --grid {params.grid:q} "
         "--runs {params.runs:q} --t-start {params.t_start} "
         "--dilute-t-start {params.dilute_t_start} --out-csv {output.csv} "
         "--out-md {output.md} > {log} 2>&1"
+
+
+# eblimit.in_grid: the grid table (results/grid/table.csv) carries each point's limit in
+# place of its run with bending (analysis.bending_limit.paper_membrane), the runs' own
+# table is results/grid/runs.csv; set it once every run of the study is in the archive.
+if IN_GRID:
+
+    rule grid_paper_membrane:
+        input:
+            code=analysis_module("bending_limit"),
+            runs="results/grid/runs.csv",
+            limits="results/eblimit/table.csv",
+        output:
+            "results/grid/table.csv",
+        log:
+            "results/logs/grid/paper_membrane.log",
+        params:
+            python=PYTHON,
+        shell:
+            "{params.python} -m analysis.bending_limit grid --runs-table {input.runs} "
+            "--limits {input.limits} --out {output} > {log} 2>&1"
+
+    ruleorder: grid_paper_membrane > run_table
 
 
 rule eblimit:

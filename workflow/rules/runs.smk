@@ -1,46 +1,43 @@
-# The runs of every study, by one generic rule: a run (pipeline.run_spec.RunSpec, found
-# from its folder by run_of()) is a chain of segments (config segments: about 25 minutes
-# each by default), each a job that resumes the run from the previous one's checkpoint and
-# pauses at its own end (`capsim run --pause-at`), so a killed invocation loses at most one
-# segment and a cluster job fits its wall-time limit; the chain ends exactly where the
-# unbroken run would. The last segment writes summary.json. With config archive, every
-# segment is recorded in the results archive as soon as it is done (pipeline.archive),
-# and the rules of archive.smk restore from there what was computed before: jobs, so that
-# a dry run writes nothing and Snakemake's lock covers them.
+# The runs of every study, by one generic rule: a run (pipeline.run_spec.RunSpec, looked
+# up by its folder's wildcards by run_of(); the job receives it whole, as JSON) is a chain
+# of segments (config segments: about 25 minutes each by default), each a job that
+# resumes the run from the previous one's checkpoint and pauses at its own end (`capsim
+# run --pause-at`), so a killed invocation loses at most one segment and a cluster job
+# fits its wall-time limit; the chain ends exactly where the unbroken run would. The last
+# segment writes summary.json. With config archive, every segment is recorded in the
+# results archive as soon as it is done (pipeline.archive), and the rules of archive.smk
+# restore from there what was computed before: jobs, so that a dry run writes nothing
+# and Snakemake's lock covers them.
 #
 # The solver is an input only to be built first: ancient() keeps a rebuilt binary from
 # re-running finished runs (a physics change bumps solver/PHYSICS_VERSION, which makes
 # archive records stale). pipeline.job starts the run, or resumes it from its checkpoint
 # when the folder holds one (a killed job, a cluster time limit, a raised t_end; on resume
-# only t_end, t_avg_start, threads and output.* may change, capsim refuses the rest). It
-# says in the log which it does, locks the log while capsim runs (a second job for the
-# same run is refused) and on failure names the run, how capsim ended and its message.
-# Exit 3 (contact, numerical failure) with summary.json is a success for a suspension:
-# summary.json says how the run "ended", its data up to the stop stay in the study and
-# the figures name it; later segments of a stopped run run nothing.
+# only t_end, t_avg_start and threads are given, capsim refuses the rest). It says in the
+# log which it does, locks the log while capsim runs (a second job for the same run is
+# refused) and on failure names the run, how capsim ended and its message. Exit 3
+# (contact, numerical failure) with summary.json is a success for all but the dilute
+# study's runs (RunSpec.stop_is_result): summary.json says how the run "ended", its data
+# up to the stop stay in the study and the figures name it; later segments of a stopped
+# run run nothing.
+import shlex
 
 
 def run_job(wc, threads, pause=None, restore=False):
     """The command of one segment (pause: its end) or of the last (pause None); with
-    `restore` the job that restores it from the archive instead."""
+    `restore` the job that restores it from the archive instead. The job receives the
+    run's spec and derives the rest from it (pipeline.job)."""
     spec = run_of(wc.study, wc.run)
     segment = "" if pause is None else f".segment{wc.k}"
     log = os.path.join("results", "logs", wc.study,
                        f"{wc.run}{'.restore' if restore else ''}{segment}.log")
-    words = [PYTHON, "-m", "pipeline.job", "--capsim", CAPSIM, "--dir", spec.folder,
-             "--log", log, "--resume-set", f"threads={threads}",
-             "--resume-set", f"t_end={spec.t_end}",
-             "--resume-set", f"t_avg_start={spec.t_avg_start}"]
-    if spec.study != "dilute":  # the dilute study's table has no row for a stopped run
-        words.append("--stopped-ok")
+    words = [PYTHON, "-m", "pipeline.job", "--capsim", CAPSIM, "--log", log,
+             "--spec", spec.to_json(), "--threads", str(threads)]
     if pause is not None:
-        words += ["--pause-at", str(pause), "--marker",
-                  str(archive.marker(spec.folder, int(wc.k)))]
+        words += ["--pause-at", str(pause), "--segment", str(wc.k)]
     if ARCHIVE:
-        words += ["--archive", ARCHIVE, "--record", f"{spec.study}/{spec.name}"]
-        words += (["--final-state"] if spec.dilute else []) + (["--restore"] if restore
-                                                               else [])
-    return shlex.join(words + ["--"] + set_arguments(spec.capsim_options(threads)))
+        words += ["--archive", ARCHIVE] + (["--restore"] if restore else [])
+    return shlex.join(words)
 
 
 def run_resource(wc, what):
@@ -97,14 +94,15 @@ rule run_table:
     """Averages (from config averages.t_start) of a list of runs, one CSV row per run."""
     wildcard_constraints:
         study="|".join(SUSPENSION_STUDIES),
+        table="table|runs",  # runs: the grid's runs where the grid table is eblimit's
     output:
-        "results/{study}/table.csv",
+        "results/{study}/{table}.csv",
     input:
         code=analysis_module("tables"),
         suspensions=lambda wc: study_runs(wc.study),
         dilute=lambda wc: STUDY_DILUTE.get(wc.study, lambda: [])(),
     log:
-        "results/logs/{study}/table.log",
+        "results/logs/{study}/{table}.log",
     params:
         python=PYTHON,
         t_start=config["averages"]["t_start"],

@@ -12,8 +12,10 @@ import json
 
 SENSITIVITY = config["sensitivity"]
 SENSITIVITY_RUNS = sensitivity_study.run_names(SENSITIVITY, config["dilute"])
+# The dilute study's runs that the study's dilute runs are compared with, in the order of
+# analysis.sensitivity.dilute_references (the folders go to it as they are: --references).
 SENSITIVITY_REFERENCES = [
-    dilute_summary(f"{run.ca:g}", run.level)
+    dilute_spec(run.ca, run.level).folder
     for run in sensitivity_study.dilute_references(SENSITIVITY, config["dilute"])
 ]
 
@@ -22,7 +24,7 @@ rule sensitivity_table:
     input:
         code=analysis_module("sensitivity"),
         runs=expand("results/sensitivity/{name}/summary.json", name=SENSITIVITY_RUNS),
-        references=SENSITIVITY_REFERENCES,
+        references=[os.path.join(f, "summary.json") for f in SENSITIVITY_REFERENCES],
     output:
         csv="results/sensitivity/table.csv",
         md="results/sensitivity/table.md",
@@ -32,10 +34,11 @@ rule sensitivity_table:
         python=PYTHON,
         plan=json.dumps(SENSITIVITY),
         dilute=json.dumps(config["dilute"]),
+        references=json.dumps(SENSITIVITY_REFERENCES),
     shell:
         "{params.python} -m analysis.sensitivity --plan {params.plan:q} "
         "--dilute {params.dilute:q} --results results/sensitivity "
-        "--dilute-results results/dilute --out-csv {output.csv} --out-md {output.md} "
+        "--references {params.references:q} --out-csv {output.csv} --out-md {output.md} "
         "> {log} 2>&1"
 
 

@@ -1,0 +1,114 @@
+"""The one description of a run (pipeline.run_spec.RunSpec): its folder name, its capsim
+command lines (fresh, resumed, one segment), its JSON form (what the job receives) and
+its archive record and key, which must be those the archives already hold. The key
+checks need build/capsim (`capsim params --json`) and are skipped without it."""
+
+import dataclasses
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+
+from pipeline import archive, run_spec
+from pipeline.run_spec import RunSpec
+
+ROOT = Path(__file__).resolve().parents[2]
+CAPSIM = ROOT / "build" / "capsim"
+QUANTITATIVE = ROOT / "archive" / "quantitative"
+needs_capsim = pytest.mark.skipif(not CAPSIM.exists(),
+                                  reason="build/capsim is missing (bash scripts/setup.sh)")
+
+GRID_RUN = RunSpec(study="grid", ca=0.2, phi=0.3, M=27, level=3, seed=1, t_end=30,
+                   t_avg_start=10,
+                   options=(("dt_safety", 0.5), ("membrane.wrinkling", True)))
+
+
+def merged(base, update):
+    """A configuration merged as snakemake's --configfile merges it (maps recursively)."""
+    out = dict(base)
+    for key, value in update.items():
+        out[key] = (merged(out[key], value) if isinstance(value, dict)
+                    and isinstance(out.get(key), dict) else value)
+    return out
+
+
+def quantitative_config():
+    def read(name):
+        return yaml.safe_load((ROOT / "config" / name).read_text())
+    return merged(read("config.yaml"), read("quantitative.yaml"))
+
+
+@pytest.mark.parametrize("value, text", [(0.05, "0.05"), (0.0125, "0.0125"), (1.0, "1"),
+                                         (1, "1"), (1e-05, "1e-05"), (0.3, "0.3")])
+def test_a_number_is_spelt_one_way(value, text):
+    # 1.0 and 1 are one run (ca1); every name the archives hold is unchanged.
+    assert run_spec.number(value) == text
+
+
+def test_the_folder_names_are_those_the_archive_holds():
+    assert GRID_RUN.folder == "results/grid/ca0.2_phi0.3_M27_level3_seed1"
+    assert dataclasses.replace(GRID_RUN, ca=0.5, phi=0.1, membrane="eb0.025").name == \
+        "ca0.5_phi0.1_M27_level3_seed1_eb0.025"
+    dilute = run_spec.dilute(0.05, 2, {"t_end": 20, "t_avg_start": 10})
+    assert dilute.folder == "results/dilute/ca0.05_level2"
+    bending = dataclasses.replace(run_spec.dilute(0.3, 3, {"t_end": 20, "t_avg_start": 10}),
+                                  study="eblimit", membrane="eb0.0125")
+    assert bending.folder == "results/eblimit/dilute_ca0.3_level3_eb0.0125"
+    # Ca 1 given as an integer or a float is one folder.
+    assert run_spec.dilute(1, 2, {"t_end": 1, "t_avg_start": 0}).name == \
+        run_spec.dilute(1.0, 2, {"t_end": 1, "t_avg_start": 0}).name == "ca1_level2"
+    for spec in (GRID_RUN, dilute, bending):
+        assert spec.record("archive/x") == Path("archive/x") / spec.study / spec.name
+
+
+def test_the_json_the_job_receives_gives_the_same_spec():
+    labelled = dataclasses.replace(GRID_RUN, label="own_name", snapshot_interval=2)
+    for spec in (GRID_RUN, labelled):
+        text = spec.to_json()
+        assert RunSpec.from_json(text) == spec
+        assert RunSpec.from_json(json.loads(text)) == spec
+        assert RunSpec.from_json(text).folder == spec.folder
+
+
+def test_fresh_resumed_and_segment_commands(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    cmd, resumed = GRID_RUN.command("capsim", threads=2)
+    assert not resumed
+    assert cmd[:3] == ["capsim", "run", "-q"] and cmd[-2:] == ["-o", GRID_RUN.folder]
+    assert "membrane.wrinkling=true" in cmd and "threads=2" in cmd and "ca=0.2" in cmd
+    # A folder with a checkpoint is resumed with the keys capsim lets change, and a
+    # segment pauses at its end.
+    (tmp_path / GRID_RUN.folder).mkdir(parents=True)
+    (tmp_path / GRID_RUN.folder / "checkpoint.h5").write_bytes(b"")
+    cmd, resumed = GRID_RUN.command("capsim", threads=1, pause_at=4.0)
+    assert resumed
+    assert cmd == ["capsim", "run", "-q", "--pause-at", "4.0", "--resume", GRID_RUN.folder,
+                   "--set", "t_end=30", "--set", "t_avg_start=10", "--set", "threads=1"]
+    cmd, _ = GRID_RUN.command("capsim", threads=1, root="/elsewhere")
+    assert "-o" in cmd and cmd[-1] == f"/elsewhere/{GRID_RUN.folder}"
+
+
+def quantitative_specs():
+    """A suspension, a dilute and a bending dilute run of config/quantitative.yaml, made
+    as the workflow makes them."""
+    config = quantitative_config()
+    grid = config["grid"]
+    keys = {"ca": 0.2, "phi": 0.3, "M": grid["capsules"], "level": grid["mesh_level"],
+            "seed": 1}
+    suspension = run_spec.suspension("grid", keys, grid, config["averages"]["t_start"],
+                                     {**config["run_options"], **grid.get("options", {})})
+    dilute = run_spec.dilute(0.2, 3, config["dilute"])
+    bending = dataclasses.replace(run_spec.dilute(0.3, 3, config["dilute"]),
+                                  study="eblimit", membrane="eb0.0125")
+    return [suspension, dilute, bending]
+
+
+@needs_capsim
+@pytest.mark.parametrize("k", range(3))
+def test_a_spec_finds_its_record_and_has_its_key(k):
+    spec = quantitative_specs()[k]
+    record = archive.read_record(spec.record(QUANTITATIVE))
+    assert (record["study"], record["name"]) == (spec.study, spec.name)
+    assert spec.key(CAPSIM) == record["key"]
+    assert archive.usable(record, spec.resolved_options(CAPSIM)) == "full"
