@@ -84,10 +84,31 @@ def moduli(block):
     return sorted(set(values))
 
 
+def point_moduli(block, point, grid_block=None):
+    """The further moduli of one point: `eblimit.eb`, and those `eblimit.more` gives it
+    ({ca, phi, eb}: a stiffer run where the smaller modulus stops early). A `more` entry
+    that names no point with bending (with grid_block given) is refused, naming it."""
+    extra = []
+    for entry in block.get("more", []):
+        eb = float(entry["eb"])
+        if not 0 < eb <= 1:
+            raise ValueError(f"eblimit.more: eb {eb:g} is outside 0 < eb <= 1")
+        at = (float(entry["ca"]), float(entry["phi"]))
+        if grid_block is not None and not any(
+                math.isclose(p.ca, at[0]) and math.isclose(p.phi, at[1])
+                for p in points(grid_block)):
+            raise ValueError(f"eblimit.more: Ca {at[0]:g} phi {at[1]:g} is not a grid "
+                             "point with bending (grid.membranes)")
+        if math.isclose(at[0], point.ca) and math.isclose(at[1], point.phi):
+            extra.append(eb)
+    return sorted(set(moduli(block) + extra) - {point.eb})
+
+
 def dilute_cases(block, grid_block):
     """(Ca, eb) of the dilute runs that measure the extrapolation's error: every Ca of the
-    points at every modulus, the grid's own included."""
-    cases = {(p.ca, eb) for p in points(grid_block) for eb in moduli(block) + [p.eb]}
+    points at every modulus it is run at, the grid's own included."""
+    cases = {(p.ca, eb) for p in points(grid_block)
+             for eb in point_moduli(block, p, grid_block) + [p.eb]}
     return sorted(cases)
 
 
@@ -145,27 +166,33 @@ def window_short(runs, min_window):
 
 
 def point_row(point, runs, dilute_rows, reference_row, min_window=0.0):
-    """One row: the point, its moduli and how far each run got, and per average (every
-    column of averaged_columns()) the grid's value at its eb, the limit eb -> 0 with its
-    standard error (statistical and model in quadrature), the model part (the dilute
-    miss; 0 where relative_miss() gives none) and the correction limit / grid value - 1.
-    The window is the shortest of the runs'; where it is shorter than min_window, the
-    point has no limit (NaN) and `short` says why."""
+    """One row: the point, the moduli whose runs carry it, how far each run got, and per
+    average (every column of averaged_columns()) the grid's value at its eb, the limit
+    eb -> 0 with its standard error (statistical and model in quadrature), the model part
+    (the dilute miss of the same moduli's line; 0 where relative_miss() gives none) and
+    the correction limit / grid value - 1. A run whose window is shorter than min_window
+    is left out (`short` names it); with fewer than two runs left the point has no limit
+    (NaN)."""
     runs = sorted(runs, key=lambda r: r["eb"])
-    eb = [r["eb"] for r in runs]
+    used = [r for r in runs if r["t_end"] - r["t_start"] >= min_window]
+    eb = [r["eb"] for r in used]
+    dilute_rows = [r for r in dilute_rows if any(math.isclose(r["eb"], e) for e in eb)]
     grid = next(r for r in runs if r["eb"] == point.eb)
     row = {"ca": point.ca, "phi": point.phi, "membrane": point.code,
            "moduli": " ".join(f"{e:g}" for e in eb),
-           "t_end": " ".join(f"{r['t_end']:.4g}" for r in runs),
-           "ended": " ".join(r["ended"] for r in runs),
-           "window_end": min(r["t_end"] for r in runs),
-           "volume_error_max": max(r.get("volume_error_max", math.nan) for r in runs),
+           "t_end": " ".join(f"{r['t_end']:.4g}" for r in used),
+           "ended": " ".join(r["ended"] for r in used),
+           "window_end": min((r["t_end"] for r in used), default=math.nan),
+           "volume_error_max": max((r.get("volume_error_max", math.nan) for r in used),
+                                   default=math.nan),
            "short": window_short(runs, min_window)}
     for q, se in averaged_columns(grid):
-        errors = [r[se] for r in runs] if se else [0.0] * len(runs)
-        value, stat = limit(eb, [r[q] for r in runs], errors) if not row["short"] \
-            else (math.nan, math.nan)
-        miss = relative_miss(dilute_rows, reference_row, q, se)
+        if len(used) >= 2:
+            value, stat = limit(eb, [r[q] for r in used],
+                                [r[se] for r in used] if se else [0.0] * len(used))
+            miss = relative_miss(dilute_rows, reference_row, q, se)
+        else:
+            value, stat, miss = math.nan, math.nan, None
         model = abs(miss * value) if miss is not None else 0.0
         row[f"{q}_eb"] = grid[q]
         row[q], row[f"{q}_model"] = value, model

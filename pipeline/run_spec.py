@@ -66,6 +66,9 @@ NOT_IN_KEY = ("t_end", "t_avg_start", "threads", "backend")
 UNUSED_BY_DILUTE = ("method", "seed", "ewald.", "suspension.")
 
 
+EDGE_LEVEL3 = 0.151  # mean edge length of the level-3 icosphere of radius 1
+
+
 def number(value):
     """A number as a folder name spells it: the shortest text that reads back as the same
     float, without a trailing ".0" (Ca 1 and 1.0 are one run, ca1). Every name the
@@ -266,20 +269,28 @@ class RunSpec:
         """Estimated wall seconds per unit strain on 2 cores (measured on the Table 1
         point with the quantitative settings, benchmarks/records/step_profile.json:
         level 3, M 27, Ca 0.2 17.5 s, level 4 10.8 times that (docs/performance.md),
-        bending eb about 5 times, dt proportional to Ca; the dilute capsule about 0.5 s
-        at level 3; all measured with the defaults of physics version 1. A suspension
-        that pins none of FORMER_DEFAULTS: 0.56 of that, with the present
-        build: 0.44-0.47 of the cost of 4952f1d's build, benchmarks/records/
-        build_compare_defaults.json, whose step was 1.22-1.26 times the profile's,
-        build_compare.json)."""
+        dt proportional to Ca; the dilute capsule about 0.5 s at level 3; all measured
+        with the defaults of physics version 1). Bending eb shortens the step by
+        1 + 4 eb / h^2 (its stability limit, h the mean edge: 0.151 at level 3, halved a
+        level; the archived runs at Ca 0.5 phi 0.1 with eb 0.0125 and 0.025 took 18.9
+        and 37.6 CPU s per strain and thread against 22.4 and 37.7 estimated);
+        three-stage rkc takes 0.57 of the time (its stability interval over its stages;
+        the reference run: 22 against 20.7). A suspension that pins none of FORMER_DEFAULTS:
+        0.56 of that, with the present build: 0.44-0.47 of the cost of 4952f1d's build,
+        benchmarks/records/build_compare_defaults.json, whose step was 1.22-1.26 times
+        the profile's, build_compare.json)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
-        stiff = 5.0 if "eb" in membrane_codes.parse(self.membrane, "membrane") else 1.0
+        eb = membrane_codes.parse(self.membrane, "membrane").get("eb", 0.0)
+        stiff = 1.0 + 4.0 * eb / (EDGE_LEVEL3 * 2.0 ** (3 - self.level)) ** 2
         given = self.trajectory_options()
         present = not self.dilute and not any(
             name in given and _same_value(option_value(given[name]), then)
             for name, then in FORMER_DEFAULTS.items())
-        return base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
+        rkc3 = option_value(given.get("time.scheme", "")) == "rkc" and \
+            str(option_value(given.get("time.stages", ""))) == "3"
+        return (base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
+                * (0.57 if rkc3 else 1.0))
 
     def segment_ends(self, minutes=None, strain=None):
         """The pause times of the run's segments and its t_end last: segments of

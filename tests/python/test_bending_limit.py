@@ -123,3 +123,29 @@ def test_a_point_whose_run_stopped_early_in_its_window_has_no_limit_and_says_why
                        min_window=10.0)
     assert math.isnan(row["D"]) and row["D_eb"] == pytest.approx(0.95)
     assert row["short"] == "eb 0.0125 stopped at 11.1 (contact), window under 10"
+
+
+def test_a_run_stopped_early_is_left_out_and_the_line_goes_through_the_others():
+    point = bl.points(GRID)[0]
+    stopped = {**_row(0.0125, 5.0), "D": 0.2, "t_end": 16.2, "ended": "numerical"}
+    runs = [stopped, _row(0.025, 2.0), _row(0.05, 2.0)]
+    # One capsule: exact on the line through 0.025 and 0.05, off it at 0.0125.
+    dilute = [{**_row(0.0125, 1.0, 1e-5), "D": 0.5}, _row(0.025, 1.0, 1e-5),
+              _row(0.05, 1.0, 1e-5)]
+    row = bl.point_row(point, runs, dilute, {q: 1.0 for q in bl.QUANTITIES},
+                       min_window=10.0)
+    assert row["moduli"] == "0.025 0.05" and row["ended"] == "t_end t_end"
+    assert row["D"] == pytest.approx(1.0) and row["D_model"] == pytest.approx(0.0)
+    assert row["short"] == "eb 0.0125 stopped at 16.2 (numerical), window under 10"
+
+
+def test_more_gives_single_points_a_further_modulus_and_its_dilute_runs():
+    block = {"eb": [0.0125], "more": [{"ca": 0.6, "phi": 0.4, "eb": 0.05}]}
+    first, second = bl.points(GRID)
+    assert bl.point_moduli(block, first, GRID) == [0.0125]
+    assert bl.point_moduli(block, second, GRID) == [0.0125, 0.05]
+    assert (0.6, 0.05) in bl.dilute_cases(block, GRID)
+    assert (0.5, 0.05) not in bl.dilute_cases(block, GRID)
+    with pytest.raises(ValueError, match="eblimit.more: Ca 0.3 phi 0.3"):
+        bl.point_moduli({"eb": [0.0125], "more": [{"ca": 0.3, "phi": 0.3, "eb": 0.05}]},
+                        first, GRID)

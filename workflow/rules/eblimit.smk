@@ -21,7 +21,7 @@ def eblimit_runs():
         return []
     level, out = GRID["mesh_level"], []
     for point in bending_limit.points(GRID):
-        for eb in bending_limit.moduli(EBLIMIT) + [point.eb]:
+        for eb in bending_limit.point_moduli(EBLIMIT, point, GRID) + [point.eb]:
             keys = dict(ca=point.ca, phi=point.phi, M=GRID["capsules"], level=level,
                         seed=GRID["seeds"][0], membrane=point.at(eb))
             spec = run_owner("grid", **keys) if eb == point.eb else run_spec.suspension(
