@@ -3,11 +3,8 @@ gradient directions) against the distance r/a from the capsule centre, for each 
 patches P; one panel per Ca (paper: (a) Ca = 0.1, (b) 0.5). A 1/r guide shows the slope.
 
 Usage: python figures/fig01.py --out results/figures/fig01 results/multipole/ca0.1_level4.csv ...
-(the file names give Ca and the mesh level: ca<Ca>_level<level>.csv)
+(each table names its capsule's Ca and mesh level in its columns ca, mesh_level)
 """
-
-import re
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -21,10 +18,12 @@ ERRORS = ["error_mean", "error_flow", "error_vorticity", "error_gradient"]
 def main(args):
     tables = []
     for path in args.inputs:
-        m = re.match(r"ca([0-9.eE+-]+)_level(\d+)\.csv$", Path(path).name)
-        if not m:
-            raise SystemExit(f"fig01: cannot read Ca and level from the name {path}")
-        tables.append((float(m.group(1)), int(m.group(2)), read_table(path)))
+        rows = read_table(path)
+        named = {"ca", "mesh_level"} <= set(rows)
+        if not named or rows[["ca", "mesh_level"]].nunique().max() != 1:
+            raise SystemExit(f"fig01: {path} names no single capsule (columns ca, mesh_level: "
+                             "capsim multipole-error writes them)")
+        tables.append((float(rows["ca"].iloc[0]), int(rows["mesh_level"].iloc[0]), rows))
     tables.sort(key=lambda t: t[:2])
     fig, axes = common.plt.subplots(1, len(tables), figsize=(3.5 * len(tables), 3.0),
                                     squeeze=False)

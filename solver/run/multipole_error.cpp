@@ -49,7 +49,8 @@ std::vector<MultipoleErrorRow> multipole_error(const std::string& run_dir,
         Vec3 ref = surface_velocity_at(point, mesh.topology, x, q.data());
         e[d] = norm(patch_velocity(point, patches) - ref) / norm(ref);
       }
-      rows.push_back({p, r, e[0], e[1], e[2], (e[0] + e[1] + e[2]) / 3.0});
+      rows.push_back(
+          {o.ca, o.mesh_level, p, r, e[0], e[1], e[2], (e[0] + e[1] + e[2]) / 3.0});
     }
   }
   return rows;
@@ -58,10 +59,12 @@ std::vector<MultipoleErrorRow> multipole_error(const std::string& run_dir,
 std::string multipole_error_csv(const std::vector<MultipoleErrorRow>& rows) {
   std::ostringstream s;
   s.precision(8);
-  s << "patches,r_over_a,error_flow,error_vorticity,error_gradient,error_mean\n";
+  s << "ca,mesh_level,patches,r_over_a,error_flow,error_vorticity,error_gradient,"
+       "error_mean\n";
   for (const auto& r : rows)
-    s << r.patches << "," << r.r << "," << r.error_flow << "," << r.error_vorticity << ","
-      << r.error_gradient << "," << r.error_mean << "\n";
+    s << r.ca << "," << r.mesh_level << "," << r.patches << "," << r.r << ","
+      << r.error_flow << "," << r.error_vorticity << "," << r.error_gradient << ","
+      << r.error_mean << "\n";
   return s.str();
 }
 

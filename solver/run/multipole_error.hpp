@@ -9,6 +9,8 @@
 namespace capsim {
 
 struct MultipoleErrorRow {
+  double ca = 0;      // the run's, so that the table names its own capsule
+  int mesh_level = 0; // (figure 1 reads them from here, not from a file name)
   int patches = 0;
   double r = 0;
   double error_flow = 0, error_vorticity = 0, error_gradient = 0, error_mean = 0;

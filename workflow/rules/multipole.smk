@@ -2,7 +2,7 @@
 # mesh level; `capsim multipole-error` writes the relative error of the P-patch expansion
 # (eq. 3.11) at distances r/a along the flow, vorticity and gradient directions.
 # The tables figure 1 reads: multipole_tables() (common.smk), one per dilute run of
-# multipole_runs(), named as its run folder (figure 1 reads Ca and level from the name).
+# multipole_runs(), named as its run folder (each names its Ca and level in its columns).
 MULTIPOLE = config["multipole"]
 DILUTE_KEYS.append(lambda: [(ca, MULTIPOLE["mesh_level"]) for ca in MULTIPOLE["ca"]])
 
