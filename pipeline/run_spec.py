@@ -58,7 +58,13 @@ ADDED_OPTIONS = {
     "ewald.precision": "double",
     "ewald.real_space_precision": "double",
     "time.stages": "4",
+    "lambda": "1",
 }
+
+# The options added after the archive's records were keyed (a subset of ADDED_OPTIONS):
+# at the value every earlier run took they leave the key out, as the run is then the
+# earlier one bit for bit, so the records keep their keys; any other value is in it.
+UNKEYED_AT_FORMER_VALUE = ("lambda",)
 
 # What does not fix the trajectory (see above), and what a dilute run does not use (a key
 # or a prefix of keys).
@@ -114,12 +120,15 @@ def flat_options(options, prefix=""):
 def key_options(options):
     """The options a key hashes, from a run's resolved options (flat or nested, as
     run.yaml, summary.json's parameters or `capsim params --json` hold them): every one
-    but NOT_IN_KEY (and UNUSED_BY_DILUTE for phi = 0), ADDED_OPTIONS filled in, in one
-    spelling."""
+    but NOT_IN_KEY (and UNUSED_BY_DILUTE for phi = 0), ADDED_OPTIONS filled in, those of
+    UNKEYED_AT_FORMER_VALUE left out at their former value, in one spelling."""
     flat = {**ADDED_OPTIONS, **flat_options(options)}
     dilute = float(flat.get("phi", 0)) == 0
+    former = {key for key in UNKEYED_AT_FORMER_VALUE
+              if _canonical(flat[key]) == _canonical(ADDED_OPTIONS[key])}
     return {key: _canonical(value) for key, value in sorted(flat.items())
-            if key not in NOT_IN_KEY and not (dilute and key.startswith(UNUSED_BY_DILUTE))}
+            if key not in NOT_IN_KEY and key not in former
+            and not (dilute and key.startswith(UNUSED_BY_DILUTE))}
 
 
 def options_key(options, version):

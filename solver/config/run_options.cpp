@@ -245,6 +245,12 @@ const std::vector<Param>& parameters() {
       real(
           "phi", {0, 0.45, false, false}, [](RunOptions& o) -> double& { return o.phi; },
           "volume fraction; 0 = one capsule in unbounded shear (dilute limit)"),
+      real(
+          "lambda", {0.01, 100, false, false},
+          [](RunOptions& o) -> double& { return o.lambda; },
+          "viscosity ratio of the capsule's interior to the suspending fluid; 1 = equal "
+          "(the paper); otherwise one capsule in unbounded shear (phi = 0) on the CPU "
+          "backend, its velocity from the second-kind boundary integral equation"),
       named(
           "method", kEwaldMethods,
           [](RunOptions& o) -> EwaldMethod& { return o.ewald.method; },

@@ -24,7 +24,7 @@ public:
   static FlowCapabilities capabilities() {
     FlowCapabilities c;
     c.consistent_load = c.bending = c.direct_sums = c.single_grids = c.single_real_space =
-        false;
+        c.viscosity_ratio = false;
     c.max_cut_fraction = 1.0 / 3.0;
     c.max_spread_support = kMaxSpreadSupport;
     return c;

@@ -4,6 +4,8 @@
 #include "mesh/surface_geometry.hpp"
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 namespace capsim {
 
@@ -32,14 +34,36 @@ Mat3 stresslet(const Vec3* x, const Vec3* grad, int n, Vec3 centroid) {
   return s;
 }
 
+Mat3 viscosity_ratio_stresslet(const Topology& topo, const Vec3* x, const Vec3* u,
+                               double lambda) {
+  const std::vector<Vec3> nu = node_area_vectors(topo, x);
+  Mat3 s;
+  for (int a = 0; a < topo.num_nodes; ++a) {
+    const double uv[3] = {u[a].x, u[a].y, u[a].z}, nv[3] = {nu[a].x, nu[a].y, nu[a].z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        s.m[i][j] += (lambda - 1) * (uv[i] * nv[j] + nv[i] * uv[j]) / 6;
+  }
+  return s;
+}
+
 CapsuleSample capsule_sample(const Topology& topo, const Vec3* x, const Vec3* grad,
-                             double energy, double volume0, double ca) {
+                             double energy, double volume0, double ca, const Vec3* u,
+                             double lambda) {
   CapsuleSample c;
   c.centroid = volume_centroid(topo, x);
   TaylorDeformation td = taylor_deformation(second_moment(topo, x, c.centroid));
   c.taylor_D = td.D;
   c.theta_D_deg = td.theta_deg;
   c.stresslet = stresslet(x, grad, topo.num_nodes, c.centroid);
+  if (lambda != 1) { // lambda = 1: the traction's part alone, as before
+    if (!u)
+      throw std::invalid_argument("capsule_sample: lambda != 1 needs the velocity");
+    const Mat3 v = viscosity_ratio_stresslet(topo, x, u, lambda);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        c.stresslet.m[i][j] += v.m[i][j];
+  }
   for (auto& row : c.stresslet.m)
     for (double& v : row)
       v *= ca;

@@ -26,9 +26,26 @@ TaylorDeformation taylor_deformation(const Mat3& second_moment);
 // load, and the lumped-mass quadrature of the same integral for the lumped one.
 Mat3 stresslet(const Vec3* x, const Vec3* grad, int n, Vec3 centroid);
 
+// The stresslet's part from a viscosity ratio lambda != 1 (Batchelor 1970, J. Fluid Mech.
+// 41, 545, the particle stress int [x sigma.n - mu (u n + n u)] dA over the surface, with
+// sigma the outer stress): writing sigma_out.n = sigma_in.n + q and int x sigma_in.n dA =
+// int_V sigma_in dV = lambda mu int (u n + n u) dA + isotropic (the divergence theorem
+// inside; a capsule's surface moves with both fluids), the stresslet is
+//   S = int 1/2 (x q + q x) dA + (lambda - 1) mu int (u n + n u) dA,
+// the (lambda - 1) term being Batchelor's -mu (1 - lambda) int (u n + n u) dA (also
+// Rallison 1984, Annu. Rev. Fluid Mech. 16, 45, eq. for a drop's stresslet). Returned
+// here in mu = 1 units: (lambda - 1) sum_i (u_i nu_i + nu_i u_i) / 6, nu_i the node area
+// vectors (6 dV/dx_i, surface_geometry.hpp), the exact integral of P1 velocity on the
+// flat triangles.
+Mat3 viscosity_ratio_stresslet(const Topology& topo, const Vec3* x, const Vec3* u,
+                               double lambda);
+
 // Everything written per capsule and sample. grad is dW/dx with W computed for Gs = 1/Ca,
-// so stresslet and energy are multiplied by Ca to be in units of Gs a^2.
+// so stresslet and energy are multiplied by Ca to be in units of Gs a^2. With lambda != 1
+// the node velocities u (in gammadot a) add viscosity_ratio_stresslet; at lambda = 1 u is
+// not read (may be null).
 CapsuleSample capsule_sample(const Topology& topo, const Vec3* x, const Vec3* grad,
-                             double energy, double volume0, double ca);
+                             double energy, double volume0, double ca,
+                             const Vec3* u = nullptr, double lambda = 1.0);
 
 } // namespace capsim

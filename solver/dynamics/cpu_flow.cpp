@@ -1,12 +1,32 @@
 #include "dynamics/cpu_flow.hpp"
 
+#include "dynamics/simulation_error.hpp"
 #include "dynamics/state_checks.hpp"
+#include "stokes/double_layer/second_kind_solve.hpp"
 
+#include <algorithm>
 #include <omp.h>
+#include <sstream>
+#include <stdexcept>
 
 namespace capsim {
 
+namespace {
+
+// GMRES's relative residual for lambda != 1: far below the discretisation error of the
+// velocity (1e-2 at mesh level 2, 5e-3 at level 3: the Hadamard-Rybczynski drop of
+// tests/cpp/test_double_layer.cpp) and below the adaptive step's tolerances, so that the
+// solve's own error neither shows in the results nor steers the step controller. From
+// the previous evaluation's velocity a solve takes a handful of iterations (deflated
+// spectrum: second_kind_solve.hpp).
+constexpr double kSecondKindTolerance = 1e-10;
+
+} // namespace
+
 CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup) {
+  if (setup_.lambda != 1 && periodic())
+    throw std::invalid_argument("CpuFlow: lambda != 1 needs the periodic double layer, "
+                                "which is not implemented");
   const PeriodicBox& box = setup_.box;
   if (box.L > 0 && box.method == EwaldMethod::spectral)
     spectral_ = std::make_unique<SpectralEwald>(box.L, box.ewald, box.grid);
@@ -51,7 +71,48 @@ void CpuFlow::evaluate_velocity(const std::vector<Vec3>& x, double t,
   }
   for (size_t i = 0; i < x.size(); ++i)
     u[i].x += setup_.shear_rate * x[i].y;
+  if (setup_.lambda != 1) // at lambda = 1 u is the solution itself: no solve
+    solve_viscosity_ratio(x, t, u);
   require_finite(u, topo.num_nodes, "velocity", t);
+}
+
+void CpuFlow::output_velocity(const std::vector<Vec3>& x, double t,
+                              std::vector<Vec3>& u) const {
+  const std::vector<Vec3> guess = previous_velocity_;
+  velocity(x, t, u);
+  previous_velocity_ = guess;
+}
+
+// u_inf + u_SL in u on entry; on exit the surface velocity of capsules of interior
+// viscosity lambda mu: u - kappa K[u] = 2/(1 + lambda) (u_inf + u_SL)
+// (second_kind_solve.hpp, Pozrikidis 1992 ch. 5), deflated, from the previous
+// evaluation's velocity.
+void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
+                                    std::vector<Vec3>& u) const {
+  const double lambda = setup_.lambda;
+  std::vector<Vec3> f(u.size());
+  for (size_t i = 0; i < u.size(); ++i)
+    f[i] = (2.0 / (1.0 + lambda)) * u[i];
+  if (previous_velocity_.size() != u.size())
+    previous_velocity_ = u; // the first evaluation: u_inf + u_SL, the lambda = 1 velocity
+  SecondKindOptions options;
+  options.tolerance = kSecondKindTolerance;
+  options.deflate = true;
+  const SecondKindResult r =
+      solve_second_kind(membrane().topology(), num_capsules(), x, lambda, f,
+                        setup_.quadrature, options, previous_velocity_);
+  ++stats_.solves;
+  stats_.iterations += r.iterations;
+  stats_.max_iterations = std::max(stats_.max_iterations, r.iterations);
+  stats_.max_residual = std::max(stats_.max_residual, r.residual);
+  if (!r.converged) {
+    std::ostringstream m;
+    m << "the second-kind solve (lambda " << lambda << ") did not converge at t = " << t
+      << ": relative residual " << r.residual << " after " << r.iterations
+      << " GMRES iterations";
+    throw SimulationError(m.str());
+  }
+  u = previous_velocity_;
 }
 
 } // namespace capsim

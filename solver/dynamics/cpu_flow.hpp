@@ -8,20 +8,33 @@ namespace capsim {
 
 class CpuFlow : public Flow {
 public:
-  static FlowCapabilities capabilities() { return {}; } // everything
+  // Everything but lambda != 1 in a periodic box (FlowCapabilities).
+  static FlowCapabilities capabilities() { return {}; }
 
   explicit CpuFlow(const FlowSetup& setup);
 
   Backend backend() const override { return Backend::cpu; }
   void traction(const std::vector<Vec3>& x, double t,
                 std::vector<Vec3>& q) const override;
+  SecondKindStats second_kind_stats() const override { return stats_; }
+  void output_velocity(const std::vector<Vec3>& x, double t,
+                       std::vector<Vec3>& u) const override;
+  void forget_history() const override { previous_velocity_.clear(); }
 
 protected:
   void evaluate_velocity(const std::vector<Vec3>& x, double t,
                          std::vector<Vec3>& u) const override;
 
 private:
+  void solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
+                             std::vector<Vec3>& u) const;
+
   std::unique_ptr<SpectralEwald> spectral_; // FFT plans and grids, made once
+  // lambda != 1: the last evaluation's velocity, GMRES's first guess for the next one
+  // (the states of successive evaluations differ by O(dt), so it saves iterations), and
+  // the solves' counts. Mutable: evaluating the flow does not change what it is.
+  mutable std::vector<Vec3> previous_velocity_;
+  mutable SecondKindStats stats_;
 };
 
 } // namespace capsim

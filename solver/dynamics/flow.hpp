@@ -42,6 +42,10 @@ struct FlowSetup {
   QuadratureOptions quadrature;
   PeriodicBox box;            // box.L = 0: unbounded fluid
   RepulsionOptions repulsion; // between capsules in a periodic box; off by default
+  // Viscosity ratio of the capsules' interior to the suspending fluid. At 1 the velocity
+  // is u_inf + u_SL; otherwise the second-kind solution of
+  // stokes/double_layer/second_kind_solve.hpp (unbounded fluid only, for now).
+  double lambda = 1.0;
 };
 
 // What a backend can evaluate. Declared once per backend, checked once by the factory.
@@ -54,6 +58,19 @@ struct FlowCapabilities {
   int max_spread_support = INT_MAX;   // Spectral-Ewald support P at most this
   bool single_grids = true;           // ewald.precision single (grids and FFTs)
   bool single_real_space = true;      // ewald.real_space_precision single
+  bool viscosity_ratio = true;        // lambda != 1 in unbounded fluid (phi = 0)
+  // lambda != 1 in a periodic box: needs the periodic double layer, which no backend
+  // has yet.
+  bool periodic_viscosity_ratio = false;
+};
+
+// The second-kind solves of lambda != 1 (none at lambda = 1): GMRES iterations per
+// evaluation and the worst relative residual reached, for summary.json.
+struct SecondKindStats {
+  long solves = 0;
+  long iterations = 0; // summed over the solves
+  int max_iterations = 0;
+  double max_residual = 0;
 };
 
 // Wall seconds in the stages of the flow's evaluations, accumulated while a profile is
@@ -100,6 +117,20 @@ public:
   // the nodes within its range of another capsule (zeros when off).
   std::vector<int> add_repulsion(const std::vector<Vec3>& x, double t,
                                  std::vector<Vec3>& grad) const;
+
+  // The second-kind solves so far (all zero at lambda = 1).
+  virtual SecondKindStats second_kind_stats() const { return {}; }
+  // What the outputs (samples, snapshots) evaluate: velocity() without changing what
+  // later evaluations start from (lambda != 1: GMRES's first guess), so that the steps
+  // do not depend on how often the outputs come.
+  virtual void output_velocity(const std::vector<Vec3>& x, double t,
+                               std::vector<Vec3>& u) const {
+    velocity(x, t, u);
+  }
+  // Forgets what the evaluations so far leave to later ones (GMRES's first guess): at a
+  // checkpoint, so that a run resumed there takes the steps of the unbroken run, bit for
+  // bit (the guess is not in the checkpoint).
+  virtual void forget_history() const {}
 
   // Accumulates the stages of every later evaluation into *p (nullptr: none).
   void attach_profile(FlowProfile* p) { profile_ = p; }

@@ -48,9 +48,15 @@ void RunLoop::take_sample() {
   s.step = clock_.steps();
   // The stresslet sees the whole load on the membrane, the repulsion's included.
   const std::vector<int> repelled = flow_->add_repulsion(x_, s.time, grad);
+  // lambda != 1: the stresslet's velocity term needs u at the sampled state (one more
+  // evaluation per sample; none at lambda = 1).
+  std::vector<Vec3> u;
+  if (o_.lambda != 1)
+    flow_->output_velocity(x_, s.time, u);
   for (int c = 0; c < o_.capsules; ++c) {
-    s.capsules.push_back(
-        capsule_sample(topology(), &x_[c * nn], &grad[c * nn], energy[c], v0_[c], o_.ca));
+    s.capsules.push_back(capsule_sample(topology(), &x_[c * nn], &grad[c * nn], energy[c],
+                                        v0_[c], o_.ca, u.empty() ? nullptr : &u[c * nn],
+                                        o_.lambda));
     s.capsules.back().volume_drift = drift_[c];
     s.capsules.back().repelled_nodes = repelled[c];
     const Compression k =
@@ -74,6 +80,7 @@ void RunLoop::save_checkpoint() {
   c.positions = x_;
   c.options_yaml = to_yaml(o_);
   files_.save_checkpoint(c);
+  flow_->forget_history(); // the resumed run starts from here as the unbroken one does
 }
 
 void RunLoop::save_snapshot() {
@@ -85,7 +92,7 @@ void RunLoop::save_snapshot() {
   }
   // Velocity and traction (one more evaluation of the flow: one per snapshot, against
   // two per step), and the membrane's tensions (diagnostics/snapshot_fields.hpp).
-  flow_->velocity(x_, frame.time, frame.velocity);
+  flow_->output_velocity(x_, frame.time, frame.velocity);
   flow_->traction(x_, frame.time, frame.traction);
   add_membrane_fields(membrane_, o_.capsules, x_, frame);
   files_.save_snapshot(frame, topology().triangles, x_);
@@ -108,6 +115,7 @@ void RunLoop::write_summary(double wall_seconds, bool resumed, const std::string
   facts.resumed = resumed;
   facts.threads = omp_get_max_threads();
   add_box_facts(box(), facts);
+  facts.second_kind = flow_->second_kind_stats();
   double t_final = samples.empty() ? 0.0 : samples.back().time;
   write_summary_json(files_.dir() + "/summary.json", o_,
                      time_average(samples, o_.t_avg_start, t_final), facts);

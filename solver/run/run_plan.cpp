@@ -15,9 +15,15 @@ namespace {
 
 // The automatic step of the run's scheme: Heun's (automatic_time_step) times how much
 // longer a step the scheme's stability allows (rkc: beta(s) / 2).
+// The explicit step's limit is the relaxation of the mesh-scale membrane waves, whose
+// rate goes as 1/(mu (1 + lambda)) (the outer and inner fluid resist a short wave in
+// series: the factor 2/(1 + lambda) of f in second_kind_solve.hpp). With lambda < 1 the
+// step shrinks by (1 + lambda)/2 to keep its margin; lambda >= 1 keeps the lambda = 1
+// step (exactly: a factor 1).
 double automatic_step(const RunOptions& o, double h) {
+  const double viscous = o.lambda < 1 ? 0.5 * (1 + o.lambda) : 1.0;
   return automatic_time_step(o.ca, h, o.dt_safety, o.bending) *
-         stability_ratio(o.time.scheme, o.time.stages);
+         stability_ratio(o.time.scheme, o.time.stages) * viscous;
 }
 
 TimePlan time_plan(const RunOptions& o, double h) {
@@ -90,6 +96,7 @@ FlowSetup flow_setup(const RunPlan& plan, const Membrane& membrane) {
   s.quadrature = o.quadrature;
   s.box = plan.box;
   s.repulsion = o.suspension.repulsion;
+  s.lambda = o.lambda;
   return s;
 }
 

@@ -60,6 +60,13 @@ void write_summary_json(const std::string& path, const RunOptions& o,
       j.field("spectral_precision", facts.spectral_precision);
     j.field("real_space_precision", facts.real_space_precision);
   }
+  if (o.lambda != 1) { // the second-kind solves (none at lambda = 1)
+    const SecondKindStats& k = facts.second_kind;
+    j.field("gmres_solves", k.solves);
+    j.field("gmres_iterations_mean", k.solves ? double(k.iterations) / k.solves : 0.0);
+    j.field("gmres_iterations_max", k.max_iterations);
+    j.field("gmres_residual_max", k.max_residual);
+  }
   j.begin_object("parameters");
   for (const auto& [key, value] : flat_values(o)) {
     char* end = nullptr;

@@ -2,6 +2,7 @@
 // summary.json: the run's time averages, rheology and facts (docs/usage.md).
 #include "config/run_options.hpp"
 #include "diagnostics/averages.hpp"
+#include "dynamics/flow.hpp"
 
 #include <string>
 #include <vector>
@@ -21,6 +22,8 @@ struct SummaryFacts {
   int spectral_support = 0;          // 0 for the direct method
   std::string spectral_precision;    // "single" or "double"; empty for the direct method
   std::string real_space_precision;  // "single" or "double" (ewald.*precision resolved)
+  // lambda != 1: the second-kind solves of this invocation (dynamics/flow.hpp).
+  SecondKindStats second_kind;
   std::string ended = "t_end"; // or the SimulationError kind: "contact", "numerical"
   std::string end_message;     // why it stopped early; empty for "t_end"
 };
