@@ -1,0 +1,89 @@
+"""The cost of another viscosity inside (lambda != 1) against lambda = 1, one capsule in
+unbounded shear, in one invocation on the same machine.
+
+    python3 benchmarks/viscosity_ratio_cost.py [--levels 2 3] [--lambdas 1 0.2 5 10]
+        [--ca 0.2] [--strain 1] [--threads 2] [--out benchmarks/records/F.json]
+
+Each case runs `capsim run --profile` from the same start over the same strain, and
+reports the time loop's seconds per unit strain (set-up excluded; one capsule, so per
+capsule-strain), the steps and evaluations, the GMRES iterations per evaluation and the
+largest residual (summary.json), and the ratio of each cost to lambda = 1 at the same
+mesh. The solve's residual (1e-10) is far below the velocity's discretisation error
+(tests/cpp/test_double_layer.cpp), so the cases differ in cost, not in accuracy. Run it
+on an otherwise idle machine.
+"""
+
+import argparse
+import json
+import platform
+import subprocess
+import sys
+import tempfile
+from datetime import date
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from analysis.read_run import read_summary  # noqa: E402
+from pipeline.command_line import run_command  # noqa: E402
+
+
+def run_case(capsim, level, lam, ca, strain, threads, scratch):
+    out = Path(scratch) / f"l{level}_lambda{lam:g}"
+    profile = out.with_suffix(".json")
+    settings = {"ca": ca, "mesh_level": level, "lambda": lam, "t_end": strain,
+                "t_avg_start": 0, "threads": threads,
+                "output.checkpoint_interval": strain}
+    subprocess.run(run_command(capsim, settings, out, "-q", "--profile", str(profile)),
+                   check=True)
+    prof, summary = json.loads(profile.read_text()), read_summary(out)
+    strain_run = float(summary["t_end"])
+    return {"mesh_level": level, "lambda": lam, "strain": strain_run,
+            "steps": prof["steps"], "evaluations": prof["evaluations"],
+            "seconds_per_strain": prof["seconds"]["loop"] / strain_run,
+            "gmres_iterations_mean": summary.get("gmres_iterations_mean", 0.0),
+            "gmres_iterations_max": summary.get("gmres_iterations_max", 0),
+            "gmres_residual_max": summary.get("gmres_residual_max", 0.0)}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--capsim", default=str(ROOT / "build" / "capsim"))
+    ap.add_argument("--levels", type=int, nargs="+", default=[2, 3])
+    ap.add_argument("--lambdas", type=float, nargs="+", default=[1.0, 0.2, 5.0, 10.0])
+    ap.add_argument("--ca", type=float, default=0.2)
+    ap.add_argument("--strain", type=float, default=1.0)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--out", help="write the record here (JSON)")
+    args = ap.parse_args(argv)
+    if 1.0 not in args.lambdas:
+        ap.error("--lambdas must include 1, the baseline")
+    cases = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for level in args.levels:
+            for lam in args.lambdas:
+                cases.append(run_case(args.capsim, level, lam, args.ca, args.strain,
+                                      args.threads, scratch))
+    for case in cases:
+        base = next(c for c in cases if c["mesh_level"] == case["mesh_level"]
+                    and c["lambda"] == 1.0)
+        case["cost_ratio"] = case["seconds_per_strain"] / base["seconds_per_strain"]
+        print(f"level {case['mesh_level']} lambda {case['lambda']:g}: "
+              f"{case['seconds_per_strain']:.3g} s per capsule-strain "
+              f"({case['cost_ratio']:.2f} x lambda 1), {case['steps']} steps, "
+              f"GMRES {case['gmres_iterations_mean']:.1f} per evaluation "
+              f"(max {case['gmres_iterations_max']}, residual "
+              f"{case['gmres_residual_max']:.1e})")
+    if args.out:
+        record = {"benchmark": "viscosity_ratio_cost", "date": date.today().isoformat(),
+                  "machine": f"{platform.processor() or platform.machine()}, "
+                             f"{args.threads} threads",
+                  "command": "python3 benchmarks/viscosity_ratio_cost.py " +
+                             " ".join(argv if argv is not None else sys.argv[1:]),
+                  "ca": args.ca, "cases": cases}
+        Path(args.out).write_text(json.dumps(record, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
