@@ -149,6 +149,11 @@ def test_a_fresh_directory_restores_every_run_and_the_same_figure_data(study):
     assert run_jobs(study["restored_dry"]) == {}
     assert "2 run(s) to restore whole" in study["restored_dry"]
     assert_same_figure_data(study["base"] / "restored", study["base"] / "plain")
+    # A second invocation in the restored folder has nothing to do: the restored runs
+    # were made by rule restore, and a provenance trigger would run them again
+    # (profiles/default: reruns by modification time).
+    again = snakemake(study["base"] / "restored", study["config"], FIGURE, dry=True)
+    assert "Nothing to be done" in again.stdout + again.stderr, again.stdout[-3000:]
 
 
 def test_a_record_replays_its_last_segment_to_the_last_bit(study):
