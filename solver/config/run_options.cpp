@@ -327,6 +327,12 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> LoadMapping& { return o.load; },
           "nodal forces -> traction q: lumped (q = F/A_node) or consistent (M q = F; "
           "needs dt_safety <= 0.2)"),
+      named(
+          "membrane.law", kMembraneLaws,
+          [](RunOptions& o) -> MembraneLaw& { return o.law; },
+          "the interface: neo_hookean (the paper's membrane, eq. 2.11) or drop (an "
+          "isotropic surface tension sigma, Ca = mu gammadot a / sigma; its nodes move "
+          "with the interface's normal velocity, and heun or rkc steps)"),
       real(
           "membrane.bending", {0, 1, false, false},
           [](RunOptions& o) -> double& { return o.bending; },
@@ -482,6 +488,16 @@ void validate(const RunOptions& o) {
   if (o.phi == 0 && o.capsules != 1)
     throw ConfigError("capsules: must be 1 when phi = 0 (the dilute limit), got " +
                       std::to_string(o.capsules));
+  if (o.law == MembraneLaw::drop) {
+    if (o.bending != 0)
+      throw ConfigError("membrane.bending: must be 0 with membrane.law: drop, got " +
+                        format_number(o.bending));
+    if (o.wrinkling)
+      throw ConfigError("membrane.wrinkling: must be false with membrane.law: drop");
+    if (o.time.scheme == TimeScheme::imex)
+      throw ConfigError("time.scheme: must be heun or rkc with membrane.law: drop (imex "
+                        "needs the membrane's Jacobian, which a drop has not), got imex");
+  }
   if (o.ewald.method == EwaldMethod::patches && o.ewald.patch_level > o.mesh_level)
     throw ConfigError("ewald.patch_level: must be at most mesh_level (" +
                       std::to_string(o.mesh_level) + ") with method: patches, got " +

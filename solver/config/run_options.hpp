@@ -54,6 +54,7 @@ struct RunOptions {
   std::string flow = "shear";   // shear (v = (y, 0, 0)) or quiescent
   double initial_stretch = 1.0; // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
   LoadMapping load = LoadMapping::lumped;
+  MembraneLaw law = MembraneLaw::neo_hookean; // neo_hookean (the paper) or drop
   double bending = 0.0;   // bending modulus kb / (Gs a^2); 0 = none (the paper)
   bool wrinkling = false; // relaxed (tension-field) membrane energy; false = eq. 2.11
   QuadratureOptions quadrature;

@@ -1,5 +1,6 @@
 #include "dynamics/flow.hpp"
 
+#include "dynamics/normal_motion.hpp"
 #include "dynamics/volume_constraint.hpp"
 
 #include <algorithm>
@@ -29,6 +30,8 @@ void Flow::volume_preserving_velocity(const std::vector<Vec3>& x, double t,
                                       std::vector<Vec3>& u) const {
   velocity(x, t, u);
   const double t1 = omp_get_wtime();
+  if (membrane().law() == MembraneLaw::drop)
+    keep_normal_motion(membrane().topology(), num_capsules(), x, u);
   remove_volume_rate(membrane().topology(), num_capsules(), x, u);
   if (profile_)
     profile_->volume_rate += omp_get_wtime() - t1;

@@ -52,6 +52,7 @@ struct FlowSetup {
 struct FlowCapabilities {
   bool consistent_load = true;        // membrane.load: consistent (a mass-matrix solve)
   bool bending = true;                // membrane.bending > 0
+  bool drop = true;                   // membrane.law: drop (surface tension)
   bool repulsion = true;              // suspension.repulsion_force > 0
   bool direct_sums = true;            // methods direct and patches
   double max_cut_fraction = INFINITY; // r_cut must stay below this fraction of L
@@ -105,7 +106,8 @@ public:
 
   // The right-hand side the time schemes (dynamics/time_schemes.hpp) integrate: u with
   // each capsule's volume rate removed (remove_volume_rate,
-  // dynamics/volume_constraint.hpp).
+  // dynamics/volume_constraint.hpp), of a drop's nodes only the normal part
+  // (dynamics/normal_motion.hpp).
   void volume_preserving_velocity(const std::vector<Vec3>& x, double t,
                                   std::vector<Vec3>& u) const;
 

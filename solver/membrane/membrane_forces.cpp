@@ -18,9 +18,19 @@ std::string to_string(LoadMapping m) {
   return choice_name(m, kLoadMappings);
 }
 
+MembraneLaw parse_membrane_law(const std::string& name) {
+  return parse_choice("membrane.law", name, kMembraneLaws);
+}
+
+std::string to_string(MembraneLaw m) {
+  return choice_name(m, kMembraneLaws);
+}
+
 Membrane::Membrane(const Topology& topo, const Vec3* reference, double gs, double kb,
-                   bool wrinkling)
-    : topo_(topo), gs_(gs), kb_(kb), wrinkling_(wrinkling) {
+                   bool wrinkling, MembraneLaw law)
+    : topo_(topo), gs_(gs), kb_(kb), wrinkling_(wrinkling), law_(law) {
+  if (law == MembraneLaw::drop && (kb != 0 || wrinkling))
+    throw std::invalid_argument("Membrane: a drop has neither bending nor wrinkling");
   refs_.reserve(topo.triangles.size());
   for (const auto& t : topo.triangles)
     refs_.push_back(
@@ -71,6 +81,8 @@ Eigen::SparseMatrix<double> Membrane::load_jacobian(const Vec3* x,
 std::vector<Eigen::Triplet<double>>
 Membrane::load_jacobian_triplets(const Vec3* x, const std::vector<Vec3>& grad,
                                  HessianPart part) const {
+  if (law_ == MembraneLaw::drop)
+    throw std::logic_error("Membrane: a drop has no load Jacobian");
   const std::vector<double> area = node_areas(topo_, x);
   // Each element fills its own 81 slots, so the elements run in parallel (a single
   // capsule's implicit step has no capsules to share among the threads).
@@ -106,6 +118,8 @@ Membrane::load_jacobian_triplets(const Vec3* x, const std::vector<Vec3>& grad,
 }
 
 std::vector<ElementTensions> Membrane::element_tensions(const Vec3* x) const {
+  if (law_ == MembraneLaw::drop)
+    return drop_tensions(x);
   std::vector<ElementTensions> out(refs_.size());
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
@@ -115,10 +129,23 @@ std::vector<ElementTensions> Membrane::element_tensions(const Vec3* x) const {
 }
 
 std::vector<ElementTensions> Membrane::neo_hookean_element_tensions(const Vec3* x) const {
+  if (law_ == MembraneLaw::drop)
+    return drop_tensions(x);
   std::vector<ElementTensions> out(refs_.size());
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
     out[e] = neo_hookean_tensions(refs_[e], x[t[0]], x[t[1]], x[t[2]]);
+  }
+  return out;
+}
+
+// The isotropic tension sigma = gs, over gs, and each element's area over its reference.
+std::vector<ElementTensions> Membrane::drop_tensions(const Vec3* x) const {
+  std::vector<ElementTensions> out(refs_.size());
+  for (size_t e = 0; e < refs_.size(); ++e) {
+    const auto& t = topo_.triangles[e];
+    out[e] = {1.0, 1.0,
+              0.5 * norm(area_vector2(x[t[0]], x[t[1]], x[t[2]])) / refs_[e].area0};
   }
   return out;
 }
@@ -129,7 +156,9 @@ double Membrane::energy_gradient(const Vec3* x, std::vector<Vec3>& grad) const {
   for (size_t e = 0; e < refs_.size(); ++e) {
     const auto& t = topo_.triangles[e];
     Vec3 g[3];
-    w += membrane_element(refs_[e], gs_, wrinkling_, x[t[0]], x[t[1]], x[t[2]], g);
+    w += law_ == MembraneLaw::drop
+             ? surface_tension_element(gs_, x[t[0]], x[t[1]], x[t[2]], g)
+             : membrane_element(refs_[e], gs_, wrinkling_, x[t[0]], x[t[1]], x[t[2]], g);
     for (int k = 0; k < 3; ++k)
       grad[t[k]] += g[k];
   }

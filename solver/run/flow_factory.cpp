@@ -19,6 +19,9 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
   else if (membrane.bending_modulus() > 0 && !caps.bending)
     m << "membrane.bending: must be 0" << with << " (bending runs on the CPU only), got "
       << membrane.bending_modulus() / membrane.shear_modulus();
+  else if (membrane.law() == MembraneLaw::drop && !caps.drop)
+    m << "membrane.law: must be neo_hookean" << with
+      << " (its membrane kernels have no surface tension; use backend: cpu), got drop";
   else if (s.repulsion.on() && !caps.repulsion)
     m << "suspension.repulsion_force: must be 0" << with
       << " (this backend has no repulsion), got " << s.repulsion.force;

@@ -17,7 +17,7 @@ RunLoop::RunLoop(const RunPlan& plan, std::string dir, bool quiet, double pause_
     : plan_(plan), o_(plan.options), files_(std::move(dir), o_.capsules),
       progress_(quiet, o_.t_end), pause_at_(pause_at), profile_(profile),
       membrane_(plan.mesh.topology, plan.mesh.positions.data(), 1.0 / o_.ca,
-                o_.bending / o_.ca, o_.wrinkling),
+                o_.bending / o_.ca, o_.wrinkling, o_.law),
       flow_(make_flow(plan.backend, flow_setup(plan, membrane_))),
       scheme_(make_stepper(plan.time.scheme, *flow_, plan.time.norm, plan.time.stages)),
       clock_(*scheme_, plan.time.tolerance, plan.time.dt, plan.time.min_dt,
