@@ -2,7 +2,8 @@
 runs are kept, a headline with the verdicts counted by class of claim, the largest
 disagreements, every claim of the paper against ours (analysis.paper_comparison), Table 1,
 figures 3-12 with the captions their scripts write, the averaging windows of the runs,
-and the list of the paper's statements with how each is counted. All from the workflow's
+the viscosity-ratio study where it was run (beyond the paper), and the list of the
+paper's statements with how each is counted. All from the workflow's
 outputs under results/; the page is written where the docs are, with the figures' PNGs
 beside it (reduced: half the pixels, 256 colours), so that it can be committed as the
 project's published results.
@@ -21,7 +22,7 @@ import pandas as pd
 import yaml
 from PIL import Image
 
-from analysis import paper_comparison
+from analysis import paper_comparison, viscosity_ratio
 from analysis.tables import markdown_table
 from pipeline import archive
 from pipeline.run_spec import ROOT, physics_version
@@ -129,6 +130,32 @@ def paper_membrane_lines(results):
             "its run with bending, left out of the claims.", "", markdown_table(cells), ""]
 
 
+def viscosity_ratio_lines(results, figure_dir):
+    """The viscosity-ratio study (results/viscosity_ratio/table.csv, analysis.
+    viscosity_ratio): its table, and its figure where drawn (reduced, copied into
+    figure_dir); none where the study is not there."""
+    path = results / "viscosity_ratio" / "table.csv"
+    if not path.exists():
+        return []
+    lines = ["## Beyond the paper: the viscosity ratio", "",
+             "The paper's capsules have the viscosity of the suspending fluid inside "
+             "(lambda = 1). One capsule in unbounded shear at other viscosity ratios "
+             "(`snakemake viscosity_ratio`, `docs/workflow.md`): the rows with lambda != 1 "
+             "are beyond the paper and have nothing of it to compare with; those at "
+             "lambda = 1 are the paper's capsule.", "",
+             viscosity_ratio.markdown(pd.read_csv(path)), ""]
+    png = results / "figures" / "viscosity_ratio.png"
+    if png.exists():
+        copy_reduced(png, figure_dir / png.name)
+        lines += [f"![The viscosity ratio]({figure_dir.name}/{png.name})", ""]
+        if png.with_suffix(".txt").exists():
+            lines += [png.with_suffix(".txt").read_text(encoding="utf-8").strip(), ""]
+    lines += ["The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
+              "is not computed yet: capsim has no periodic double layer, so a suspension "
+              "refuses lambda != 1.", ""]
+    return lines
+
+
 def claims_list(numbers):
     """Every claim with its class, test and the paper's words, then the statements not
     compared and why."""
@@ -206,6 +233,7 @@ def page(results, label, figures, figure_dir, store=None, date=None, numbers=Non
               "`results/figures/`.", ""]
     figure_dir.mkdir(parents=True, exist_ok=True)
     lines += figure_lines(results, figures, figure_dir)
+    lines += viscosity_ratio_lines(results, figure_dir)
     lines += ["## The claims and how they are counted", ""] + claims_list(numbers)
     return "\n".join(lines)
 

@@ -14,7 +14,8 @@ dilute run (one capsule in unbounded shear) ca<Ca>_level<level>, or
 dilute_ca<Ca>_level<level>_<membrane> where it does not carry the paper's membrane. A
 number is spelt as number() writes it (0.05, 1e-05; 1.0 as 1). A study whose runs differ
 in more than these (the accuracy study: Ewald tolerance, time scheme, length; the
-sensitivity study: the membrane always named) names them itself (RunSpec.label).
+sensitivity study: the membrane always named; the viscosity-ratio study: lambda) names
+them itself (RunSpec.label).
 
 The provenance key is a hash of the physics version (solver/PHYSICS_VERSION) and every
 option of the run as capsim resolves it (`capsim params --json`, the values run.yaml
@@ -59,12 +60,13 @@ ADDED_OPTIONS = {
     "ewald.real_space_precision": "double",
     "time.stages": "4",
     "lambda": "1",
+    "membrane.law": "neo_hookean",
 }
 
 # The options added after the archive's records were keyed (a subset of ADDED_OPTIONS):
 # at the value every earlier run took they leave the key out, as the run is then the
 # earlier one bit for bit, so the records keep their keys; any other value is in it.
-UNKEYED_AT_FORMER_VALUE = ("lambda",)
+UNKEYED_AT_FORMER_VALUE = ("lambda", "membrane.law")
 
 # What does not fix the trajectory (see above), and what a dilute run does not use (a key
 # or a prefix of keys).
@@ -287,7 +289,11 @@ class RunSpec:
         the reference run: 22 against 20.7). A suspension that pins none of FORMER_DEFAULTS:
         0.56 of that, with the present build: 0.44-0.47 of the cost of 4952f1d's build,
         benchmarks/records/build_compare_defaults.json, whose step was 1.22-1.26 times
-        the profile's, build_compare.json)."""
+        the profile's, build_compare.json). A capsule of another viscosity (lambda != 1)
+        solves for its velocity each evaluation: 13 times lambda 1's cost at level 3
+        above lambda 1 and 20 times below (its shorter step), half that a level down
+        (benchmarks/records/viscosity_ratio_cost.json: 12.8-13.1 and 20.2 at level 3,
+        5.9-6.1 and 9.8 at level 2)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         eb = membrane_codes.parse(self.membrane, "membrane").get("eb", 0.0)
@@ -298,8 +304,11 @@ class RunSpec:
             for name, then in FORMER_DEFAULTS.items())
         rkc3 = option_value(given.get("time.scheme", "")) == "rkc" and \
             str(option_value(given.get("time.stages", ""))) == "3"
+        ratio = float(option_value(given.get("lambda", 1)))
+        solved = (1.0 if ratio == 1.0
+                  else (20.0 if ratio < 1 else 13.0) * 2.0 ** (self.level - 3))
         return (base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
-                * (0.57 if rkc3 else 1.0))
+                * (0.57 if rkc3 else 1.0) * solved)
 
     def segment_ends(self, minutes=None, strain=None):
         """The pause times of the run's segments and its t_end last: segments of
@@ -331,6 +340,25 @@ def dilute(ca, level, block):
     return RunSpec(study="dilute", ca=ca, level=level, t_end=block["t_end"],
                    t_avg_start=block["t_avg_start"],
                    options=tuple(sorted(block.get("options", {}).items())))
+
+
+def viscosity_ratio(ca, ratio, block, dilute_block):
+    """The RunSpec of a run of the viscosity-ratio study (config viscosity_ratio): one
+    capsule in unbounded shear at Ca, the block's mesh level and the viscosity ratio
+    `ratio` (capsim's lambda), with the dilute block's options, as the dilute study's
+    runs it is compared with. At ratio 1 with the dilute study's t_end it is the dilute
+    study's own run (dilute()), computed once for both; otherwise a run of its own,
+    ca<Ca>_level<level>_lambda<ratio> (at ratio 1 lambda is not set: the run is the
+    dilute one to another t_end)."""
+    level = int(block["mesh_level"])
+    reference = dilute(ca, level, dilute_block)
+    if float(ratio) == 1.0 and float(block["t_end"]) == float(dilute_block["t_end"]):
+        return reference
+    options = dict(reference.options) | ({} if float(ratio) == 1.0 else {"lambda": ratio})
+    return dataclasses.replace(
+        reference, study="viscosity_ratio", t_end=block["t_end"],
+        t_avg_start=block["t_avg_start"], options=tuple(sorted(options.items())),
+        label=f"ca{number(ca)}_level{level}_lambda{number(ratio)}")
 
 
 def accuracy(setting, sample_interval):

@@ -22,7 +22,8 @@ MAIN_STUDY_RUNS = {}
 
 
 wildcard_constraints:
-    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy", "sensitivity", "eblimit"]),
+    study="|".join(SUSPENSION_STUDIES + ["dilute", "accuracy", "sensitivity", "eblimit",
+                                         "viscosity_ratio"]),
     run=r"(dilute_)?ca[^/]+",  # dilute_: the sensitivity study's dilute runs
     k=r"\d+",
     ca=r"[0-9.eE+-]+",

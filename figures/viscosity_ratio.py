@@ -1,0 +1,70 @@
+"""The viscosity-ratio study: one capsule in unbounded shear, D, theta_D and the intrinsic
+viscosity [mu] against Ca, one line per viscosity ratio lambda (the paper's lambda = 1
+among them). Runs that stopped before their end are not drawn: the caption lists them,
+with when and how they stopped.
+
+Usage: python figures/viscosity_ratio.py --out results/figures/viscosity_ratio \
+           results/viscosity_ratio/table.csv
+Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
+"""
+
+import common
+from common import plt
+
+from analysis.viscosity_ratio import SE
+
+PANELS = (("D", "D"), ("theta_D_deg", r"$\theta_D$ (deg)"), ("mu_sp", r"$[\mu]$"))
+MARKERS = ("o", "s", "D", "^", "v", "P", "X")
+
+
+def series_label(ratio):
+    return rf"$\lambda$ = {ratio:g}" + (" (paper)" if ratio == 1 else "")
+
+
+def stopped_text(rows):
+    """The runs not drawn: their Ca, lambda, how and when they stopped."""
+    early = rows[rows["ended"] != "t_end"]
+    if early.empty:
+        return "Every run reached its end."
+    # records, not itertuples: "lambda" is a Python keyword, no attribute name
+    items = [f"Ca {r['ca']:g}, lambda {r['lambda']:g}: {r['ended']} at gammadot t = "
+             f"{r['t_stop']:.3g}" for r in early.to_dict("records")]
+    return "Not drawn, stopped before their end: " + "; ".join(items) + "."
+
+
+def main():
+    out, table = common.parse_table_args(__doc__.splitlines()[0])
+    table["ended"] = table["ended"].fillna("t_end")
+    finished = table[table["ended"] == "t_end"]
+    ratios = sorted(set(table["lambda"]))
+    colors = common.colors(ratios)
+    fig, axes = plt.subplots(1, len(PANELS), figsize=(7.5, 2.6))
+    plotted = []
+    for i, ratio in enumerate(ratios):
+        rows = finished[finished["lambda"] == ratio].sort_values("ca")
+        if rows.empty:
+            continue
+        for ax, (q, _) in zip(axes, PANELS):
+            common.points(ax, rows["ca"], rows[q], yerr=rows[SE.get(q, f"{q}_se")],
+                          fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
+                          label=series_label(ratio))
+        plotted.append(rows)
+    for ax, (_, label) in zip(axes, PANELS):
+        ax.set(xlabel="Ca", ylabel=label)
+    if axes[0].get_legend_handles_labels()[0]:
+        axes[-1].legend(fontsize=7)
+    fig.tight_layout()
+    caption = ("One capsule in unbounded shear with interior viscosity lambda times the "
+               "suspending fluid's (docs/workflow.md, the viscosity-ratio study); the paper "
+               "has lambda = 1 only, the other lines are beyond it. [mu]: the intrinsic "
+               "viscosity, mu_sp / phi as phi -> 0. " + stopped_text(table) + " "
+               + common.ERROR_BARS + ". "
+               + common.footer(finished if not finished.empty else table))
+    data = common.pd.concat(plotted, ignore_index=True) if plotted else table.iloc[:0]
+    columns = ["ca", "lambda", "mesh_level", "N_E", "ended"]
+    columns += [c for q, _ in PANELS for c in (q, SE.get(q, f"{q}_se"))]
+    common.save(fig, out, data[columns], caption)
+
+
+if __name__ == "__main__":
+    main()

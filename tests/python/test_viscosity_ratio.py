@@ -1,0 +1,194 @@
+"""The viscosity-ratio study (workflow/rules/viscosity_ratio.smk, analysis/viscosity_ratio.py,
+figures/viscosity_ratio.py): which runs it plans (lambda 1 is the dilute study's run where
+the settings match), its table on tiny real runs (level 2, a fraction of a strain) and a
+stopped one, its figure, and its section of the results page, there only with its table.
+The runs and dry runs need build/capsim and snakemake and are skipped without them."""
+
+import json
+import math
+import runpy
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import pandas as pd
+import pytest
+
+from analysis import viscosity_ratio as vr
+from analysis.read_run import read_summary
+from pipeline import results_page, run_spec
+
+ROOT = Path(__file__).resolve().parents[2]
+CAPSIM = ROOT / "build" / "capsim"
+SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+needs_capsim = pytest.mark.skipif(not CAPSIM.exists(),
+                                  reason="build/capsim is missing (bash scripts/setup.sh)")
+needs_snakemake = pytest.mark.skipif(not SNAKEMAKE.exists(), reason="snakemake is missing")
+
+DILUTE = {"t_end": 20, "t_avg_start": 10, "options": {"quadrature.near_ratio": 1.5}}
+BLOCK = {"ca": [0.2], "lambda": [0.2, 1, 5], "mesh_level": 3, "t_end": 20, "t_avg_start": 10}
+T_END = 0.3  # the tiny runs' end; averages from T_START
+T_START = 0.1
+
+
+def test_lambda_1_at_the_dilute_t_end_is_the_dilute_study_s_own_run():
+    assert run_spec.viscosity_ratio(0.2, 1, BLOCK, DILUTE) == run_spec.dilute(0.2, 3, DILUTE)
+    other = run_spec.viscosity_ratio(0.2, 1, BLOCK | {"t_end": 30}, DILUTE)
+    # Another t_end: a run of its own, lambda left at capsim's default (1).
+    assert other.folder == "results/viscosity_ratio/ca0.2_level3_lambda1"
+    assert "lambda" not in other.trajectory_options() and other.t_end == 30
+
+
+def test_another_ratio_is_a_run_of_its_own_with_the_dilute_options():
+    spec = run_spec.viscosity_ratio(0.05, 0.2, BLOCK, DILUTE)
+    assert spec.folder == "results/viscosity_ratio/ca0.05_level3_lambda0.2"
+    assert spec.trajectory_options() == {"ca": 0.05, "mesh_level": 3,
+                                         "quadrature.near_ratio": 1.5, "lambda": 0.2}
+    assert (spec.t_end, spec.t_avg_start, spec.stop_is_result) == (20, 10, True)
+    # Its cost per strain: the benchmark's factor over lambda 1 (20 below 1, 13 above).
+    plain = run_spec.dilute(0.05, 3, DILUTE).seconds_per_strain()
+    assert spec.seconds_per_strain() == pytest.approx(20 * plain)
+    five = run_spec.viscosity_ratio(0.05, 5, BLOCK | {"mesh_level": 2}, DILUTE)
+    assert five.seconds_per_strain() == pytest.approx(
+        6.5 * run_spec.dilute(0.05, 2, DILUTE).seconds_per_strain())
+
+
+def dry_run(workdir, target, *configfiles):
+    cmd = [str(SNAKEMAKE), "-n", target, "--snakefile", str(ROOT / "Snakefile"),
+           "--directory", str(workdir), "--configfile",
+           *[str(ROOT / "config" / "ci.yaml"), *map(str, configfiles)]]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return proc.stdout
+
+
+def planned_runs(output):
+    """The run folders a dry run's `run` jobs write summary.json into."""
+    words = [line.split() for line in output.splitlines()]
+    return sorted(w[1][: -len("/summary.json")] for w in words
+                  if len(w) == 2 and w[0] == "output:" and w[1].endswith("/summary.json"))
+
+
+@needs_capsim
+@needs_snakemake
+def test_the_ci_study_plans_its_runs_once_and_lambda_1_in_the_dilute_folder(tmp_path):
+    runs = planned_runs(dry_run(tmp_path, "viscosity_ratio"))
+    assert runs == ["results/dilute/ca0.2_level2", "results/dilute/ca0.4_level2",
+                    "results/viscosity_ratio/ca0.2_level2_lambda0.2",
+                    "results/viscosity_ratio/ca0.2_level2_lambda5",
+                    "results/viscosity_ratio/ca0.4_level2_lambda0.2",
+                    "results/viscosity_ratio/ca0.4_level2_lambda5"]
+    # Another t_end than the dilute study's: lambda 1 is a run of the study's own.
+    (tmp_path / "short.yaml").write_text("viscosity_ratio: {ca: [0.2], lambda: [1, 5], "
+                                         "mesh_level: 2, t_end: 0.5, t_avg_start: 0.2}\n")
+    runs = planned_runs(dry_run(tmp_path, "viscosity_ratio", tmp_path / "short.yaml"))
+    assert runs == ["results/viscosity_ratio/ca0.2_level2_lambda1",
+                    "results/viscosity_ratio/ca0.2_level2_lambda5"]
+
+
+@pytest.fixture(scope="module")
+def tiny_runs(capsim_run):
+    """{lambda: run folder} of one capsule at Ca 0.2, level 2, to T_END."""
+    if not CAPSIM.exists():
+        pytest.skip("build/capsim is missing (bash scripts/setup.sh)")
+    return {ratio: capsim_run(f"lambda{ratio}", "ca=0.2", "mesh_level=2", f"lambda={ratio}",
+                              f"t_end={T_END}", f"t_avg_start={T_START}")
+            for ratio in (1, 5)}
+
+
+def entries(runs):
+    return [{"ca": 0.2, "lambda": ratio, "folder": str(folder)}
+            for ratio, folder in runs.items()]
+
+
+def test_the_table_reads_the_dilute_reduction_and_the_gmres_counts(tiny_runs):
+    table = vr.study_table(entries(tiny_runs), T_START)
+    assert list(table.columns) == list(vr.COLUMNS)
+    assert list(table["lambda"]) == [1, 5] and set(table["ended"]) == {"t_end"}
+    for row in table.to_dict("records"):
+        summary = read_summary(tiny_runs[row["lambda"]])
+        # The window is the run's own, so the averages are capsim's summary values.
+        assert row["D"] == pytest.approx(summary["taylor_D"], rel=1e-9)
+        assert row["theta_D_deg"] == pytest.approx(summary["theta_D_deg"], rel=1e-9)
+        assert row["mu_sp"] == pytest.approx(summary["mu_sp"], rel=1e-9)
+        assert row["N1"] == pytest.approx(summary["N1"], rel=1e-9)
+        assert row["N_E"] == 320 and row["count"] > 0 and row["mu_sp_se"] > 0
+    one, five = table.to_dict("records")
+    assert math.isnan(one["gmres_iterations_mean"])
+    assert five["gmres_iterations_mean"] == read_summary(tiny_runs[5])["gmres_iterations_mean"]
+    text = vr.markdown(table)
+    assert "| 0.2 | 1 |" in text and "none (lambda 1)" in text and "| t_end |" in text
+    assert "beyond it" in text and "no tank-treading frequency" in text
+
+
+def test_a_folder_of_another_ratio_is_refused(tiny_runs):
+    wrong = [{"ca": 0.2, "lambda": 0.2, "folder": str(tiny_runs[5])}]
+    with pytest.raises(ValueError, match="carries lambda 5, not 0.2"):
+        vr.study_table(wrong, T_START)
+
+
+def stopped_copy(folder, tmp_path):
+    """A copy of a run whose summary says it stopped on a numerical failure (a fold)."""
+    copy = tmp_path / "stopped"
+    shutil.copytree(folder, copy)
+    summary = read_summary(copy) | {"ended": "numerical", "end_message": "inverted"}
+    (copy / "summary.json").write_text(json.dumps(summary))
+    return copy
+
+
+def test_a_run_that_stopped_before_the_window_is_a_row_without_averages(tiny_runs, tmp_path):
+    runs = {5: stopped_copy(tiny_runs[5], tmp_path)}
+    table = vr.study_table(entries(runs), T_END + 1)  # the window starts after its end
+    stopped = table.iloc[0]
+    assert stopped["ended"] == "numerical" and stopped["count"] == 0
+    assert math.isnan(stopped["D"]) and stopped["t_stop"] == pytest.approx(T_END, abs=0.1)
+    assert f"numerical at {stopped['t_stop']:.3g}" in vr.markdown(table)
+    with pytest.raises(ValueError):  # one that ran to its end must have its window
+        vr.study_table(entries({1: tiny_runs[1]}), T_END + 1)
+
+
+def run_figure(*args):
+    """figures/viscosity_ratio.py as its command line runs it, in this process."""
+    script = ROOT / "figures" / "viscosity_ratio.py"
+    argv, path = sys.argv, list(sys.path)
+    sys.argv, sys.path[:0] = [str(script), *map(str, args)], [str(script.parent)]
+    try:
+        runpy.run_path(str(script), run_name="__main__")
+    finally:
+        sys.argv, sys.path[:] = argv, path
+        plt.close("all")
+
+
+@pytest.fixture(scope="module")
+def results(tiny_runs, tmp_path_factory):
+    """A results folder with the study's table (a run at lambda 5 stopped) and figure."""
+    out = tmp_path_factory.mktemp("results")
+    runs = {1: tiny_runs[1], 5: stopped_copy(tiny_runs[5], out)}
+    table = vr.study_table(entries(runs), T_START)
+    (out / "viscosity_ratio").mkdir()
+    table.to_csv(out / "viscosity_ratio" / "table.csv", index=False)
+    run_figure("--out", out / "figures" / "viscosity_ratio",
+               out / "viscosity_ratio" / "table.csv")
+    return out
+
+
+def test_the_figure_draws_the_runs_that_ended_and_names_the_stopped(results):
+    data = pd.read_csv(results / "figures" / "viscosity_ratio.csv")
+    assert list(data["lambda"]) == [1]  # the stopped run is not drawn
+    caption = (results / "figures" / "viscosity_ratio.txt").read_text()
+    assert "Not drawn, stopped before their end: Ca 0.2, lambda 5: numerical at" in caption
+    assert (results / "figures" / "viscosity_ratio.png").stat().st_size > 0
+
+
+def test_the_results_page_section_is_there_only_with_the_table(results, tmp_path):
+    lines = results_page.viscosity_ratio_lines(results, tmp_path)
+    text = "\n".join(lines)
+    assert lines[0] == "## Beyond the paper: the viscosity ratio"
+    assert "the rows with lambda != 1 are beyond the paper" in text
+    assert "| 0.2 | 5 |" in text and "numerical at" in text
+    assert "![The viscosity ratio](" in text and (tmp_path / "viscosity_ratio.png").exists()
+    dense = [line for line in lines if "periodic double layer" in line]
+    assert len(dense) == 1 and "Ca 0.2, phi 0.1-0.3, M = 27" in dense[0]
+    assert results_page.viscosity_ratio_lines(tmp_path / "nothing", tmp_path) == []
