@@ -14,7 +14,6 @@
 #include "mesh/icosphere.hpp"
 #include "mesh/surface_geometry.hpp"
 #include "run/flow_factory.hpp"
-#include "run/run_plan.hpp"
 #include "run/simulation.hpp"
 #include "test_helpers.hpp"
 
@@ -50,26 +49,39 @@ double relaxation_time(double ca, double lambda) {
   return ca * (2 * lambda + 3) * (19 * lambda + 16) / (40 * (lambda + 1));
 }
 
+// The samples of a drop's run at Ca, lambda and mesh level to gammadot t = t_end, with
+// `more` settings (in a folder of its own, removed afterwards).
+std::vector<Sample> drop_run(double ca, double lambda, int level, double t_end,
+                             std::vector<std::string> more = {}) {
+  const fs::path dir =
+      fs::temp_directory_path() /
+      ("capsim_drop_" + std::to_string(getpid()) + "_" + std::to_string(lambda) + "_" +
+       std::to_string(ca) + "_" + std::to_string(level));
+  fs::remove_all(dir);
+  std::vector<std::string> settings = {"membrane.law=drop",
+                                       "ca=" + std::to_string(ca),
+                                       "lambda=" + std::to_string(lambda),
+                                       "mesh_level=" + std::to_string(level),
+                                       "t_end=" + std::to_string(t_end),
+                                       "output.snapshot_interval=0",
+                                       "output.checkpoint_interval=100"};
+  settings.insert(settings.end(), more.begin(), more.end());
+  RunRequest r;
+  r.options = parse_run_options("", settings);
+  r.outdir = dir.string();
+  r.quiet = true;
+  run_simulation(r);
+  std::vector<Sample> samples = read_timeseries((dir / "timeseries.h5").string());
+  fs::remove_all(dir);
+  return samples;
+}
+
 // A drop from the sphere, averaged over one strain unit from 12 relaxation times (at
 // least gammadot t = 1): steady to e^-12.
 DropValues steady_drop(double ca, double lambda, int level) {
   const double t0 = std::max(1.0, 12 * relaxation_time(ca, lambda)), t1 = t0 + 1;
-  const fs::path dir =
-      fs::temp_directory_path() / ("capsim_drop_" + std::to_string(getpid()) + "_" +
-                                   std::to_string(lambda) + "_" + std::to_string(ca));
-  fs::remove_all(dir);
-  RunRequest r;
-  r.options = parse_run_options(
-      "", {"membrane.law=drop", "ca=" + std::to_string(ca),
-           "lambda=" + std::to_string(lambda), "mesh_level=" + std::to_string(level),
-           "t_end=" + std::to_string(t1), "t_avg_start=" + std::to_string(t0),
-           "output.snapshot_interval=0", "output.checkpoint_interval=100"});
-  r.outdir = dir.string();
-  r.quiet = true;
-  run_simulation(r);
-  const RunAverages a =
-      time_average(read_timeseries((dir / "timeseries.h5").string()), t0, t1);
-  fs::remove_all(dir);
+  const RunAverages a = time_average(
+      drop_run(ca, lambda, level, t1, {"t_avg_start=" + std::to_string(t0)}), t0, t1);
   return {a.D_mean / ca, (45 - a.theta_D_mean) * kPi / 180 / ca,
           rheology_from_stresslet(a.stresslet_mean, 0.0, ca).mu_sp};
 }
@@ -165,8 +177,9 @@ TEST_CASE("drop: membrane.law drop refuses bending, wrinkling and imex by name; 
             .empty());
 }
 
-TEST_CASE("drop: its nodes keep a translation and the normal motion, not the surface flow",
-          "[drop]") {
+TEST_CASE(
+    "drop: its nodes keep a translation and the normal motion, not the surface flow",
+    "[drop]") {
   const Icosphere mesh = make_icosphere(2);
   const int n = mesh.topology.num_nodes;
   // On the sphere a rotation is tangential: the nodes keep only the translation, up to
@@ -246,22 +259,8 @@ TEST_CASE("drop: Taylor and Chaffey-Brenner at lambda 10", "[drop][physics]") {
 // least 0.8 (measured 1.2).
 static double fitted_relaxation(double lambda, int level) {
   const double ca = 0.1, tau = relaxation_time(ca, lambda);
-  const fs::path dir =
-      fs::temp_directory_path() / ("capsim_drop_relax_" + std::to_string(getpid()) + "_" +
-                                   std::to_string(lambda) + "_" + std::to_string(level));
-  fs::remove_all(dir);
-  RunRequest r;
-  r.options = parse_run_options(
-      "",
-      {"membrane.law=drop", "flow=quiescent", "initial.stretch=1.1",
-       "ca=" + std::to_string(ca), "lambda=" + std::to_string(lambda),
-       "mesh_level=" + std::to_string(level), "t_end=" + std::to_string(tau),
-       "t_avg_start=0", "output.snapshot_interval=0", "output.checkpoint_interval=100"});
-  r.outdir = dir.string();
-  r.quiet = true;
-  run_simulation(r);
-  const std::vector<Sample> series = read_timeseries((dir / "timeseries.h5").string());
-  fs::remove_all(dir);
+  const std::vector<Sample> series = drop_run(
+      ca, lambda, level, tau, {"flow=quiescent", "initial.stretch=1.1", "t_avg_start=0"});
   // Least-squares slope of log D against t over [0.2 tau, tau].
   double n = 0, st = 0, sl = 0, stt = 0, stl = 0;
   for (const Sample& row : series) {
