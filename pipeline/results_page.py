@@ -2,7 +2,7 @@
 runs are kept, a headline with the verdicts counted by class of claim, the largest
 disagreements, every claim of the paper against ours (analysis.paper_comparison), Table 1,
 figures 3-12 with the captions their scripts write, the averaging windows of the runs,
-the viscosity-ratio study where it was run (beyond the paper), and the list of the
+the viscosity-ratio study where the configuration shows it (beyond the paper), and the list of the
 paper's statements with how each is counted. All from the workflow's
 outputs under results/; the page is written where the docs are, with the figures' PNGs
 beside it (reduced: half the pixels, 256 colours), so that it can be committed as the
@@ -132,11 +132,10 @@ def paper_membrane_lines(results):
 
 def viscosity_ratio_lines(results, figure_dir):
     """The viscosity-ratio study (results/viscosity_ratio/table.csv, analysis.
-    viscosity_ratio): its table, and its figure where drawn (reduced, copied into
-    figure_dir); none where the study is not there."""
+    viscosity_ratio): its table and its figure (reduced, copied into figure_dir). Shown
+    where the configuration puts it on the page (viscosity_ratio.on_page: the rule
+    passes --viscosity-ratio and depends on both)."""
     path = results / "viscosity_ratio" / "table.csv"
-    if not path.exists():
-        return []
     lines = ["## Beyond the paper: the viscosity ratio", "",
              "The paper's capsules have the viscosity of the suspending fluid inside "
              "(lambda = 1). One capsule in unbounded shear at other viscosity ratios "
@@ -197,8 +196,10 @@ def figure_lines(results, figures, figure_dir):
     return lines
 
 
-def page(results, label, figures, figure_dir, store=None, date=None, numbers=None):
-    """The page's Markdown; copies the figures' PNGs (reduced) into `figure_dir`."""
+def page(results, label, figures, figure_dir, store=None, date=None, numbers=None,
+         viscosity_ratio=False):
+    """The page's Markdown; copies the figures' PNGs (reduced) into `figure_dir`; with
+    viscosity_ratio, the section of that study."""
     results, figure_dir = Path(results), Path(figure_dir)
     numbers = Path(numbers or ROOT / "config" / "paper_numbers.yaml")
     date = date or datetime.date.today().isoformat()
@@ -233,7 +234,8 @@ def page(results, label, figures, figure_dir, store=None, date=None, numbers=Non
               "`results/figures/`.", ""]
     figure_dir.mkdir(parents=True, exist_ok=True)
     lines += figure_lines(results, figures, figure_dir)
-    lines += viscosity_ratio_lines(results, figure_dir)
+    if viscosity_ratio:
+        lines += viscosity_ratio_lines(results, figure_dir)
     lines += ["## The claims and how they are counted", ""] + claims_list(numbers)
     return "\n".join(lines)
 
@@ -247,11 +249,14 @@ def main(argv=None):
     ap.add_argument("--archive", help="the results archive the runs came from")
     ap.add_argument("--numbers", help="the claims file (default config/paper_numbers.yaml)")
     ap.add_argument("--figures", nargs="+", default=FIGURES, help="figures to show")
+    ap.add_argument("--viscosity-ratio", action="store_true",
+                    help="add the viscosity-ratio study's section (its table and figure)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     try:
         text = page(args.results, args.label, args.figures, out.with_suffix(""),
-                    args.archive, numbers=args.numbers)
+                    args.archive, numbers=args.numbers,
+                    viscosity_ratio=args.viscosity_ratio)
     except (FileNotFoundError, archive.ArchiveError) as e:
         print(f"results_page: error: {e}", file=sys.stderr)
         return 2

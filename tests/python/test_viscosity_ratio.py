@@ -1,7 +1,8 @@
 """The viscosity-ratio study (workflow/rules/viscosity_ratio.smk, analysis/viscosity_ratio.py,
 figures/viscosity_ratio.py): which runs it plans (lambda 1 is the dilute study's run where
 the settings match), its table on tiny real runs (level 2, a fraction of a strain) and a
-stopped one, its figure, and its section of the results page, there only with its table.
+stopped one, its figure, and its section of the results page, there where the
+configuration shows it.
 The runs and dry runs need build/capsim and snakemake and are skipped without them."""
 
 import json
@@ -86,6 +87,21 @@ def test_the_ci_study_plans_its_runs_once_and_lambda_1_in_the_dilute_folder(tmp_
     runs = planned_runs(dry_run(tmp_path, "viscosity_ratio", tmp_path / "short.yaml"))
     assert runs == ["results/viscosity_ratio/ca0.2_level2_lambda1",
                     "results/viscosity_ratio/ca0.2_level2_lambda5"]
+
+
+@needs_capsim
+@needs_snakemake
+def test_the_results_page_needs_the_study_only_where_the_configuration_shows_it(tmp_path):
+    def jobs(output):
+        return {line.split()[-1] for line in output.splitlines()
+                if line.startswith(("rule ", "localrule "))}
+
+    assert "viscosity_ratio_table:" not in jobs(dry_run(tmp_path, "results_page"))
+    (tmp_path / "page.yaml").write_text("viscosity_ratio: {ca: [0.2], lambda: [1, 5], "
+                                        "mesh_level: 2, t_end: 1, t_avg_start: 0.5, "
+                                        "on_page: true}\n")
+    shown = dry_run(tmp_path, "results_page", tmp_path / "page.yaml")
+    assert {"viscosity_ratio_table:", "viscosity_ratio_figure:"} <= jobs(shown)
 
 
 @pytest.fixture(scope="module")
@@ -182,7 +198,7 @@ def test_the_figure_draws_the_runs_that_ended_and_names_the_stopped(results):
     assert (results / "figures" / "viscosity_ratio.png").stat().st_size > 0
 
 
-def test_the_results_page_section_is_there_only_with_the_table(results, tmp_path):
+def test_the_results_page_section(results, tmp_path):
     lines = results_page.viscosity_ratio_lines(results, tmp_path)
     text = "\n".join(lines)
     assert lines[0] == "## Beyond the paper: the viscosity ratio"
@@ -191,4 +207,3 @@ def test_the_results_page_section_is_there_only_with_the_table(results, tmp_path
     assert "![The viscosity ratio](" in text and (tmp_path / "viscosity_ratio.png").exists()
     dense = [line for line in lines if "periodic double layer" in line]
     assert len(dense) == 1 and "Ca 0.2, phi 0.1-0.3, M = 27" in dense[0]
-    assert results_page.viscosity_ratio_lines(tmp_path / "nothing", tmp_path) == []

@@ -137,6 +137,7 @@ rule results_page:
         expand("results/figures/{name}.{ext}", name=results_page.FIGURES,
                ext=["png", "txt"]),
         [f"results/{study}/table.csv" for study in ("grid", "mesh", "boxsize")],
+        VISCOSITY_RATIO_PAGE,
         code=os.path.join(ROOT, "pipeline", "results_page.py"),
         numbers=os.path.join(ROOT, "config", "paper_numbers.yaml"),
     output:
@@ -145,6 +146,8 @@ rule results_page:
         python=PYTHON,
         label=COMPARISON_LABEL,
         archive=f"--archive {ARCHIVE}" if ARCHIVE else "",
+        viscosity_ratio="--viscosity-ratio" if VISCOSITY_RATIO_PAGE else "",
     shell:
         "{params.python} -m pipeline.results_page --results results --out {output} "
-        "--label '{params.label}' --numbers {input.numbers} {params.archive}"
+        "--label '{params.label}' --numbers {input.numbers} {params.archive} "
+        "{params.viscosity_ratio}"

@@ -5,12 +5,16 @@
 # so it is computed once; the others are results/viscosity_ratio/ca<Ca>_level<l>_lambda<r>.
 # A run that stops early (a fold: capsim's exit 3) is a result, marked in the table.
 # Optional: a configuration without the block has no such runs. Run by its own target,
-# `snakemake viscosity_ratio`, not by `all`. Suspensions at lambda != 1 wait for the
+# `snakemake viscosity_ratio`, not by `all`; `on_page: true` (set it once its runs are in
+# the archive) puts its table and figure on the results page, whose rule then needs them. Suspensions at lambda != 1 wait for the
 # periodic double layer, which capsim does not have yet.
 # Output: results/viscosity_ratio/table.csv (and .md), results/figures/viscosity_ratio.png.
 import json
 
 VISCOSITY_RATIO = config.get("viscosity_ratio")
+VISCOSITY_RATIO_PAGE = (["results/viscosity_ratio/table.csv",
+                         "results/figures/viscosity_ratio.png"]
+                        if VISCOSITY_RATIO and VISCOSITY_RATIO.get("on_page") else [])
 
 
 def viscosity_ratio_runs():
