@@ -1,0 +1,269 @@
+#include "stokes/double_layer/periodic_double_layer.hpp"
+
+#include "common/constants.hpp"
+#include "mesh/surface_geometry.hpp"
+#include "stokes/double_layer/double_layer.hpp"
+#include "stokes/double_layer/ewald_stresslet.hpp"
+#include "stokes/quadrature/element_integrals.hpp"
+#include "stokes/quadrature/near_triangle_cells.hpp"
+#include "stokes/quadrature/triangle_sources.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace capsim {
+namespace {
+
+// The 3-point rule's points of every triangle of M capsules, triangle after triangle.
+std::vector<Vec3> rule_positions(const Topology& topo, int num_capsules,
+                                 const std::vector<Vec3>& x) {
+  if (int(x.size()) != topo.num_nodes * num_capsules)
+    throw std::invalid_argument("PeriodicDoubleLayer: num_capsules * num_nodes positions "
+                                "needed");
+  const TriangleRule rule = triangle_rule_3();
+  const int nt = int(topo.triangles.size()) * num_capsules;
+  std::vector<Vec3> y;
+  y.reserve(size_t(nt) * rule.n);
+  for (int t = 0; t < nt; ++t) {
+    const TriangleLoad load = triangle_load(topo, x, x, t);
+    for (int g = 0; g < rule.n; ++g)
+      y.push_back(barycentric(load.p, rule.l1[g], rule.l2[g]));
+  }
+  return y;
+}
+
+// The wave vectors k = m1 b1 + m2 b2 + m3 b3 with 0 < |k| < k_cut in the upper half
+// space (one of each pair k, -k; the selection of ewald_reciprocal.cpp).
+std::vector<Vec3> half_wave_vectors(const ShearedLattice& g, double k_cut) {
+  std::vector<Vec3> ks;
+  for_each_wave_vector(g, k_cut, [&](int m1, int m2, int m3, Vec3 k) {
+    if (m3 > 0 || (m3 == 0 && (m1 > 0 || (m1 == 0 && m2 > 0))))
+      ks.push_back(k);
+  });
+  return ks;
+}
+
+// The factor of the reciprocal sum (3) over half the wave vectors: -(8 pi / V) times 2.
+double reciprocal_prefactor(const ShearedLattice& g) {
+  return -16.0 * kPi / (g.L * g.L * g.L);
+}
+
+} // namespace
+
+PeriodicDoubleLayer::PeriodicDoubleLayer(const Topology& topo, int num_capsules,
+                                         const std::vector<Vec3>& x,
+                                         const ShearedLattice& lattice,
+                                         const EwaldParameters& ewald,
+                                         const QuadratureOptions& quad)
+    : topo_(topo), num_capsules_(num_capsules), x_(x), lattice_(lattice), ewald_(ewald),
+      quad_(quad), y_(rule_positions(topo, num_capsules, x)),
+      cells_(lattice, ewald.r_cut, y_), k_(half_wave_vectors(lattice, ewald.k_cut)) {
+  if (!(ewald.xi > 0 && ewald.r_cut > 0 && ewald.k_cut > 0))
+    throw std::invalid_argument("PeriodicDoubleLayer: xi and the cut-offs must be > 0");
+  for (int c = 0; c < num_capsules; ++c)
+    volume_.push_back(enclosed_volume(topo, &x[size_t(c) * topo.num_nodes]));
+  for (const Vec3& k : k_)
+    phi_.push_back(stresslet_fourier_screening(dot(k, k), ewald.xi));
+  setup_triangles();
+  setup_near_lists();
+  setup_self_matrices();
+}
+
+void PeriodicDoubleLayer::setup_triangles() {
+  const int nt = int(topo_.triangles.size()) * num_capsules_;
+  const TriangleRule rule = triangle_rule_3();
+  unit_normal_.resize(nt);
+  area_.resize(nt);
+  centroid_.resize(nt);
+  diameter_.resize(nt);
+  a_.resize(size_t(nt) * rule.n);
+  for (int t = 0; t < nt; ++t) {
+    const TriangleLoad load = triangle_load(topo_, x_, x_, t);
+    const Vec3 av = area_vector2(load.p[0], load.p[1], load.p[2]);
+    area_[t] = 0.5 * norm(av);
+    unit_normal_[t] = (1.0 / norm(av)) * av; // outward: counter-clockwise from outside
+    centroid_[t] = triangle_centroid(load.p);
+    diameter_[t] = triangle_diameter(load.p);
+    for (int g = 0; g < rule.n; ++g)
+      a_[size_t(t) * rule.n + g] = (rule.w[g] * area_[t]) * unit_normal_[t];
+  }
+}
+
+// Every node's triangle images closer than far_ratio diameters (by centroid), with the
+// lattice vector to the image.
+void PeriodicDoubleLayer::setup_near_lists() {
+  const NearTriangleCells cells(lattice_, centroid_, diameter_, quad_.far_ratio);
+  near_offset_.assign(1, 0);
+  for (const Vec3& xi : x_) {
+    cells.for_neighbours(xi, [&](int t, Vec3 image) {
+      const Vec3 d = xi - image;
+      const double reach = quad_.far_ratio * diameter_[t];
+      if (dot(d, d) >= reach * reach)
+        return;
+      Vec3 shift = image - centroid_[t]; // a lattice vector, up to round-off
+      if (norm(shift) < 1e-9 * lattice_.L)
+        shift = Vec3{};
+      near_.push_back({t, shift});
+    });
+    near_offset_.push_back(int(near_.size()));
+  }
+}
+
+// self_: the far rule of T^per(x_i - y) . n over node i's own capsule and its images,
+// real space (own capsule's points within r_cut) plus reciprocal space (per capsule
+// structure factors B_c(k) = sum_{g in c} a_g exp(-i k . y_g), then
+// -(8 pi / V) sum_k phi A(k) Im[exp(i k . x_i) B_c(k)]).
+void PeriodicDoubleLayer::setup_self_matrices() {
+  const int n = num_nodes(), nk = int(k_.size());
+  const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
+  const double rc2 = ewald_.r_cut * ewald_.r_cut;
+  // B_c(k): [capsule][k] real and imaginary vectors.
+  std::vector<Vec3> b_re(size_t(num_capsules_) * nk), b_im(b_re.size());
+#pragma omp parallel for schedule(static)
+  for (int kk = 0; kk < nk; ++kk)
+    for (size_t g = 0; g < y_.size(); ++g) {
+      const double th = dot(k_[kk], y_[g]);
+      const size_t j = (g / per_capsule) * nk + kk;
+      b_re[j] += std::cos(th) * a_[g];
+      b_im[j] -= std::sin(th) * a_[g];
+    }
+  for (auto& s : self_)
+    s.assign(n, 0.0);
+  const double pre = reciprocal_prefactor(lattice_);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < n; ++i) {
+    const int own = i / topo_.num_nodes;
+    double m[6] = {0, 0, 0, 0, 0, 0}, f[6] = {0, 0, 0, 0, 0, 0};
+    cells_.for_neighbours(x_[i], [&](int g, Vec3 image) {
+      const Vec3 r = x_[i] - image;
+      if (int(size_t(g) / per_capsule) == own && dot(r, r) < rc2)
+        stresslet_real_add_matrix(r, a_[g], ewald_.xi, m);
+    });
+    for (int kk = 0; kk < nk; ++kk) {
+      const double th = dot(k_[kk], x_[i]), c = std::cos(th), s = std::sin(th);
+      const size_t j = size_t(own) * nk + kk;
+      // Im[(c + i s)(B_re + i B_im)] = s B_re + c B_im
+      stresslet_fourier_add_matrix(k_[kk], phi_[kk] * (s * b_re[j] + c * b_im[j]), f);
+    }
+    for (int c = 0; c < 6; ++c)
+      self_[c][i] = m[c] + pre * f[c];
+  }
+}
+
+std::vector<Vec3> PeriodicDoubleLayer::rule_densities(const std::vector<Vec3>& u) const {
+  const TriangleRule rule = triangle_rule_3();
+  const int nt = int(area_.size());
+  std::vector<Vec3> ug(size_t(nt) * rule.n);
+  for (int t = 0; t < nt; ++t) {
+    const TriangleLoad load = triangle_load(topo_, x_, u, t);
+    for (int g = 0; g < rule.n; ++g)
+      ug[size_t(t) * rule.n + g] = barycentric(load.q, rule.l1[g], rule.l2[g]);
+  }
+  return ug;
+}
+
+// sum over all rule points' images within r_cut of u_g . T^R(x_i - y_g) . a_g.
+void PeriodicDoubleLayer::add_real_space(const std::vector<Vec3>& ug,
+                                         std::vector<Vec3>& sum) const {
+  const double rc2 = ewald_.r_cut * ewald_.r_cut;
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < num_nodes(); ++i) {
+    Vec3 s;
+    cells_.for_neighbours(x_[i], [&](int g, Vec3 image) {
+      const Vec3 r = x_[i] - image;
+      if (dot(r, r) < rc2)
+        s += stresslet_real_apply(r, ug[g], a_[g], ewald_.xi);
+    });
+    sum[i] += s;
+  }
+}
+
+// -(8 pi / V) sum_{k != 0} phi(k) Im[exp(i k . x_i) Q(k)] (3), with the structure factor
+// Q_j(k) = sum_g u_gi A_ijl(k) a_gl exp(-i k . y_g), over half the wave vectors, twice.
+void PeriodicDoubleLayer::add_reciprocal(const std::vector<Vec3>& ug,
+                                         std::vector<Vec3>& sum) const {
+  const int nk = int(k_.size());
+  std::vector<Vec3> q_re(nk), q_im(nk);
+#pragma omp parallel for schedule(static)
+  for (int kk = 0; kk < nk; ++kk) {
+    Vec3 re, im;
+    for (size_t g = 0; g < y_.size(); ++g) {
+      const Vec3 w = stresslet_fourier_apply(k_[kk], ug[g], a_[g]);
+      const double th = dot(k_[kk], y_[g]);
+      re += std::cos(th) * w;
+      im -= std::sin(th) * w;
+    }
+    q_re[kk] = phi_[kk] * re;
+    q_im[kk] = phi_[kk] * im;
+  }
+  const double pre = reciprocal_prefactor(lattice_);
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < num_nodes(); ++i) {
+    Vec3 s;
+    for (int kk = 0; kk < nk; ++kk) {
+      const double th = dot(k_[kk], x_[i]);
+      s += std::sin(th) * q_re[kk] + std::cos(th) * q_im[kk];
+    }
+    sum[i] += pre * s;
+  }
+}
+
+// The near corrections of node i: accurate free-space integral minus 3-point rule of
+// (u - sub) . T . n over its near triangle images, sub on its own capsule's only.
+Vec3 PeriodicDoubleLayer::near_correction(int i, const std::vector<Vec3>& u,
+                                          Vec3 sub) const {
+  const int own = i / topo_.num_nodes, nt_capsule = int(topo_.triangles.size());
+  Vec3 s;
+  for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
+    const int t = near_[p].triangle;
+    const Vec3 shift = near_[p].shift;
+    const bool itself = dot(shift, shift) == 0;
+    TriangleLoad load = triangle_load(topo_, x_, u, t);
+    for (auto& v : load.p)
+      v += shift;
+    s += double_layer_near_correction(x_[i], itself && vertex_index(topo_, i, t) >= 0,
+                                      load, unit_normal_[t],
+                                      t / nt_capsule == own ? sub : Vec3{}, area_[t],
+                                      quad_.near_ratio, quad_.max_depth);
+  }
+  return s;
+}
+
+void PeriodicDoubleLayer::apply(const std::vector<Vec3>& u, std::vector<Vec3>& k,
+                                bool subtract) const {
+  const int n = num_nodes();
+  if (int(u.size()) != n)
+    throw std::invalid_argument(
+        "PeriodicDoubleLayer::apply: one density vector per node needed");
+  const std::vector<Vec3> ug = rule_densities(u);
+  std::vector<Vec3> sum(n, Vec3{});
+  add_real_space(ug, sum);
+  add_reciprocal(ug, sum);
+  k.resize(n);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 ui = subtract ? u[i] : Vec3{};
+    Vec3 s = sum[i] + near_correction(i, u, ui);
+    if (subtract) {
+      double m[6];
+      for (int c = 0; c < 6; ++c)
+        m[c] = self_[c][i];
+      s -= symmetric_matrix_apply(m, ui);
+    }
+    // The subtracted constant's integral by the periodic identity (4).
+    const double v =
+        volume_[i / topo_.num_nodes] / (lattice_.L * lattice_.L * lattice_.L);
+    k[i] = (1.0 / (8.0 * kPi)) * s + (subtract ? 0.5 - v : 0.0) * ui;
+  }
+}
+
+void periodic_double_layer_velocity(const Topology& topo, int num_capsules,
+                                    const std::vector<Vec3>& x,
+                                    const std::vector<Vec3>& u,
+                                    const ShearedLattice& lattice,
+                                    const EwaldParameters& ewald,
+                                    const QuadratureOptions& quad, std::vector<Vec3>& k) {
+  PeriodicDoubleLayer(topo, num_capsules, x, lattice, ewald, quad).apply(u, k);
+}
+
+} // namespace capsim
