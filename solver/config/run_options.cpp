@@ -249,8 +249,9 @@ const std::vector<Param>& parameters() {
           "lambda", {0.01, 100, false, false},
           [](RunOptions& o) -> double& { return o.lambda; },
           "viscosity ratio of the capsule's interior to the suspending fluid; 1 = equal "
-          "(the paper); otherwise one capsule in unbounded shear (phi = 0) on the CPU "
-          "backend, its velocity from the second-kind boundary integral equation"),
+          "(the paper); otherwise, on the CPU backend, the velocity solves the "
+          "second-kind boundary integral equation (in a suspension with the periodic "
+          "double layer by plain Ewald sums)"),
       named(
           "method", kEwaldMethods,
           [](RunOptions& o) -> EwaldMethod& { return o.ewald.method; },

@@ -42,7 +42,7 @@ struct SuspensionOptions {
 struct RunOptions {
   double ca = 0.2;              // capillary number mu gammadot a / Gs
   double phi = 0.0;             // volume fraction; 0 = one capsule in unbounded shear
-  double lambda = 1.0;          // viscosity ratio interior / exterior (phi = 0 only)
+  double lambda = 1.0;          // viscosity ratio interior / exterior
   int capsules = 1;             // capsules per periodic box
   int mesh_level = 3;           // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
   double dt = 0.0;              // time step in strain units; 0 = automatic ("auto")

@@ -24,7 +24,7 @@ public:
   static FlowCapabilities capabilities() {
     FlowCapabilities c;
     c.consistent_load = c.bending = c.drop = c.direct_sums = c.single_grids =
-        c.single_real_space = c.viscosity_ratio = false;
+        c.single_real_space = c.viscosity_ratio = c.periodic_viscosity_ratio = false;
     c.max_cut_fraction = 1.0 / 3.0;
     c.max_spread_support = kMaxSpreadSupport;
     return c;

@@ -24,9 +24,6 @@ constexpr double kSecondKindTolerance = 1e-10;
 } // namespace
 
 CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup) {
-  if (setup_.lambda != 1 && periodic())
-    throw std::invalid_argument("CpuFlow: lambda != 1 needs the periodic double layer, "
-                                "which is not implemented");
   const PeriodicBox& box = setup_.box;
   if (box.L > 0 && box.method == EwaldMethod::spectral)
     spectral_ = std::make_unique<SpectralEwald>(box.L, box.ewald, box.grid);
@@ -86,7 +83,10 @@ void CpuFlow::output_velocity(const std::vector<Vec3>& x, double t,
 // u_inf + u_SL in u on entry; on exit the surface velocity of capsules of interior
 // viscosity lambda mu: u - kappa K[u] = 2/(1 + lambda) (u_inf + u_SL)
 // (second_kind_solve.hpp, Pozrikidis 1992 ch. 5), deflated, from the previous
-// evaluation's velocity.
+// evaluation's velocity; in the periodic box with the periodic double layer by plain
+// Ewald sums (periodic_double_layer.hpp, PeriodicBox::double_layer), whose mean
+// velocity is u_inf's: the suspension's true mean differs from it by a uniform
+// translation, which moves no capsule relative to another and no stress.
 void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
                                     std::vector<Vec3>& u) const {
   const double lambda = setup_.lambda;
@@ -98,9 +98,10 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
   SecondKindOptions options;
   options.tolerance = kSecondKindTolerance;
   options.deflate = true;
-  const SecondKindResult r =
-      solve_second_kind(membrane().topology(), num_capsules(), x, lambda, f,
-                        setup_.quadrature, options, previous_velocity_);
+  const SecondKindBox box{lattice(t), setup_.box.double_layer};
+  const SecondKindResult r = solve_second_kind(
+      membrane().topology(), num_capsules(), x, lambda, f, setup_.quadrature, options,
+      previous_velocity_, periodic() ? &box : nullptr);
   ++stats_.solves;
   stats_.iterations += r.iterations;
   stats_.max_iterations = std::max(stats_.max_iterations, r.iterations);

@@ -8,7 +8,7 @@ namespace capsim {
 
 class CpuFlow : public Flow {
 public:
-  // Everything but lambda != 1 in a periodic box (FlowCapabilities).
+  // Everything (FlowCapabilities).
   static FlowCapabilities capabilities() { return {}; }
 
   explicit CpuFlow(const FlowSetup& setup);

@@ -44,25 +44,23 @@ struct FlowSetup {
   RepulsionOptions repulsion; // between capsules in a periodic box; off by default
   // Viscosity ratio of the capsules' interior to the suspending fluid. At 1 the velocity
   // is u_inf + u_SL; otherwise the second-kind solution of
-  // stokes/double_layer/second_kind_solve.hpp (unbounded fluid only, for now).
+  // stokes/double_layer/second_kind_solve.hpp, in unbounded fluid or the periodic box.
   double lambda = 1.0;
 };
 
 // What a backend can evaluate. Declared once per backend, checked once by the factory.
 struct FlowCapabilities {
-  bool consistent_load = true;        // membrane.load: consistent (a mass-matrix solve)
-  bool bending = true;                // membrane.bending > 0
-  bool drop = true;                   // membrane.law: drop (surface tension)
-  bool repulsion = true;              // suspension.repulsion_force > 0
-  bool direct_sums = true;            // methods direct and patches
-  double max_cut_fraction = INFINITY; // r_cut must stay below this fraction of L
-  int max_spread_support = INT_MAX;   // Spectral-Ewald support P at most this
-  bool single_grids = true;           // ewald.precision single (grids and FFTs)
-  bool single_real_space = true;      // ewald.real_space_precision single
-  bool viscosity_ratio = true;        // lambda != 1 in unbounded fluid (phi = 0)
-  // lambda != 1 in a periodic box: needs the periodic double layer, which no backend
-  // has yet.
-  bool periodic_viscosity_ratio = false;
+  bool consistent_load = true;          // membrane.load: consistent (a mass-matrix solve)
+  bool bending = true;                  // membrane.bending > 0
+  bool drop = true;                     // membrane.law: drop (surface tension)
+  bool repulsion = true;                // suspension.repulsion_force > 0
+  bool direct_sums = true;              // methods direct and patches
+  double max_cut_fraction = INFINITY;   // r_cut must stay below this fraction of L
+  int max_spread_support = INT_MAX;     // Spectral-Ewald support P at most this
+  bool single_grids = true;             // ewald.precision single (grids and FFTs)
+  bool single_real_space = true;        // ewald.real_space_precision single
+  bool viscosity_ratio = true;          // lambda != 1 in unbounded fluid (phi = 0)
+  bool periodic_viscosity_ratio = true; // lambda != 1 in a periodic box
 };
 
 // The second-kind solves of lambda != 1 (none at lambda = 1): GMRES iterations per

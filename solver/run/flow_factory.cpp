@@ -50,9 +50,8 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
     m << "lambda: must be 1" << with
       << " (its flow has no double layer; use backend: cpu), got " << s.lambda;
   else if (s.lambda != 1 && s.box.L > 0 && !caps.periodic_viscosity_ratio)
-    m << "lambda: must be 1 when phi > 0 (a suspension needs the periodic double layer, "
-         "not implemented yet; lambda != 1 runs one capsule, phi = 0), got "
-      << s.lambda;
+    m << "lambda: must be 1 when phi > 0" << with
+      << " (it has no periodic double layer), got " << s.lambda;
   return m.str();
 }
 

@@ -432,12 +432,14 @@ def test_case6_the_key_follows_the_solver_s_own_defaults(study):
         run_spec.options_key({**resolved, "dt_safety": 0.1}, "1")
     before = {k: v for k, v in resolved.items() if k != "time.stages"}
     assert run_spec.options_key(before, "1") == run_spec.options_key(resolved, "1")
-    # lambda (issue 49) is out of the key at 1, the value of every earlier run (which it
-    # leaves bit for bit), so the records keep their keys; any other value is in it.
-    without = {k: v for k, v in resolved.items() if k != "lambda"}
-    assert run_spec.options_key(without, "1") == run_spec.options_key(resolved, "1")
-    assert run_spec.options_key({**resolved, "lambda": "5"}, "1") != \
-        run_spec.options_key(resolved, "1")
+    # lambda and membrane.law (issue 49) are out of the key at 1 and neo_hookean, the
+    # values of every earlier run (which they leave bit for bit), so the records keep
+    # their keys; any other value is in it.
+    for key, other in (("lambda", "5"), ("membrane.law", "drop")):
+        without = {k: v for k, v in resolved.items() if k != key}
+        assert run_spec.options_key(without, "1") == run_spec.options_key(resolved, "1")
+        assert run_spec.options_key({**resolved, key: other}, "1") != \
+            run_spec.options_key(resolved, "1")
     # A dilute run does not use the periodic sums: they are not in its key.
     dilute = run_spec.resolved_options(CAPSIM, [])
     assert run_spec.options_key({**dilute, "ewald.precision": "single"}, "1") == \

@@ -6,8 +6,9 @@
 # A run that stops early (a fold: capsim's exit 3) is a result, marked in the table.
 # Optional: a configuration without the block has no such runs. Run by its own target,
 # `snakemake viscosity_ratio`, not by `all`; `on_page: true` (set it once its runs are in
-# the archive) puts its table and figure on the results page, whose rule then needs them. Suspensions at lambda != 1 wait for the
-# periodic double layer, which capsim does not have yet.
+# the archive) puts its table and figure on the results page, whose rule then needs them.
+# No suspensions yet: capsim's periodic double layer is a plain Ewald sum, too slow at
+# M = 27 (docs/method.md).
 # Output: results/viscosity_ratio/table.csv (and .md), results/figures/viscosity_ratio.png.
 import json
 

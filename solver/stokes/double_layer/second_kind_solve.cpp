@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <unsupported/Eigen/IterativeSolvers>
 
@@ -93,31 +94,29 @@ Vec3 rigid_mode(int m, Vec3 p, Vec3 c) {
 }
 } // namespace
 
-SecondKindOperator::SecondKindOperator(const DoubleLayer& k, const Topology& topo,
+SecondKindOperator::SecondKindOperator(DoubleLayerApply k, const Topology& topo,
                                        int num_capsules, const std::vector<Vec3>& x,
-                                       double lambda, bool deflate)
-    : k_(k), num_nodes_(int(x.size())), nodes_per_capsule_(topo.num_nodes),
+                                       double lambda, bool deflate, double box_volume)
+    : k_(std::move(k)), num_nodes_(int(x.size())), nodes_per_capsule_(topo.num_nodes),
       num_capsules_(num_capsules), lambda_(lambda), kappa_(second_kind_kappa(lambda)),
-      deflate_(deflate), positions_(x) {
+      deflate_(deflate), periodic_(box_volume > 0), positions_(x) {
   area_.resize(num_nodes_);
   nu_.resize(num_nodes_);
   centre_.resize(num_capsules);
+  volume_.resize(num_capsules);
   gram_inverse_.resize(num_capsules);
   normal_norm2_.assign(num_capsules, 0.0);
   for (int c = 0; c < num_capsules; ++c) {
     const int o = c * nodes_per_capsule_;
     const std::vector<double> a = node_areas(topo, &x[o]);
     const std::vector<Vec3> av = node_area_vectors(topo, &x[o]);
-    double total = 0;
-    Vec3 centre;
     for (int i = 0; i < nodes_per_capsule_; ++i) {
       area_[o + i] = a[i];
       nu_[o + i] = (1.0 / 6.0) * av[i];
-      total += a[i];
-      centre += a[i] * x[o + i];
       normal_norm2_[c] += dot(nu_[o + i], nu_[o + i]) / a[i];
     }
-    centre_[c] = (1.0 / total) * centre;
+    centre_[c] = volume_centroid(topo, &x[o]);
+    volume_[c] = enclosed_volume(topo, &x[o]);
     Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
     for (int i = 0; i < nodes_per_capsule_; ++i)
       for (int m = 0; m < 6; ++m)
@@ -128,9 +127,19 @@ SecondKindOperator::SecondKindOperator(const DoubleLayer& k, const Topology& top
   }
 }
 
+SecondKindOperator::SecondKindOperator(const DoubleLayer& k, const Topology& topo,
+                                       int num_capsules, const std::vector<Vec3>& x,
+                                       double lambda, bool deflate)
+    : SecondKindOperator(
+          [&k](const std::vector<Vec3>& u, std::vector<Vec3>& out) { k.apply(u, out); },
+          topo, num_capsules, x, lambda, deflate) {}
+
 void SecondKindOperator::rigid_projection(const Eigen::VectorXd& w,
                                           Eigen::VectorXd& y) const {
   y.setZero(size());
+  // Each capsule's coefficients: translation (0-2) and rotation about its volume
+  // centroid (3-5).
+  std::vector<Eigen::Matrix<double, 6, 1>> coef(num_capsules_);
   for (int c = 0; c < num_capsules_; ++c) {
     const int o = c * nodes_per_capsule_;
     Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
@@ -139,11 +148,24 @@ void SecondKindOperator::rigid_projection(const Eigen::VectorXd& w,
       for (int m = 0; m < 6; ++m)
         b[m] += area_[i] * dot(rigid_mode(m, positions_[i], centre_[c]), wi);
     }
-    const Eigen::Matrix<double, 6, 1> coef = gram_inverse_[c] * b;
+    coef[c] = gram_inverse_[c] * b;
+  }
+  if (periodic_) { // less the volume-weighted mean translation (see the header)
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    double total = 0;
+    for (int c = 0; c < num_capsules_; ++c) {
+      mean += volume_[c] * coef[c].head<3>();
+      total += volume_[c];
+    }
+    for (int c = 0; c < num_capsules_; ++c)
+      coef[c].head<3>() -= mean / total;
+  }
+  for (int c = 0; c < num_capsules_; ++c) {
+    const int o = c * nodes_per_capsule_;
     for (int i = o; i < o + nodes_per_capsule_; ++i) {
       Vec3 v;
       for (int m = 0; m < 6; ++m)
-        v += coef[m] * rigid_mode(m, positions_[i], centre_[c]);
+        v += coef[c][m] * rigid_mode(m, positions_[i], centre_[c]);
       y[3 * i] = v.x, y[3 * i + 1] = v.y, y[3 * i + 2] = v.z;
     }
   }
@@ -168,7 +190,7 @@ void SecondKindOperator::normal_projection(const Eigen::VectorXd& w,
 void SecondKindOperator::apply_kernel(const Eigen::VectorXd& w,
                                       Eigen::VectorXd& y) const {
   std::vector<Vec3> kw;
-  k_.apply(as_vec3(w), kw);
+  k_(as_vec3(w), kw);
   y = as_vector(kw);
   if (deflate_) {
     Eigen::VectorXd p, n;
@@ -203,8 +225,8 @@ SecondKindResult solve_second_kind(const Topology& topo, int num_capsules,
                                    const std::vector<Vec3>& x, double lambda,
                                    const std::vector<Vec3>& f,
                                    const QuadratureOptions& quadrature,
-                                   const SecondKindOptions& options,
-                                   std::vector<Vec3>& u) {
+                                   const SecondKindOptions& options, std::vector<Vec3>& u,
+                                   const SecondKindBox* box) {
   if (!(lambda > 0) || !std::isfinite(lambda))
     throw std::invalid_argument("solve_second_kind: the viscosity ratio must be positive "
                                 "and finite");
@@ -223,8 +245,24 @@ SecondKindResult solve_second_kind(const Topology& topo, int num_capsules,
   }
   if (u.size() != f.size())
     u.assign(f.size(), Vec3{});
-  const DoubleLayer k(topo, num_capsules, x, quadrature);
-  const SecondKindOperator op(k, topo, num_capsules, x, lambda, options.deflate);
+  std::unique_ptr<DoubleLayer> free;
+  std::unique_ptr<PeriodicDoubleLayer> periodic;
+  DoubleLayerApply k;
+  if (box) {
+    periodic = std::make_unique<PeriodicDoubleLayer>(topo, num_capsules, x, box->lattice,
+                                                     box->ewald, quadrature);
+    k = [&periodic](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
+      periodic->apply(w, out);
+    };
+  } else {
+    free = std::make_unique<DoubleLayer>(topo, num_capsules, x, quadrature);
+    k = [&free](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
+      free->apply(w, out);
+    };
+  }
+  const double box_volume = box ? std::pow(box->lattice.L, 3) : 0.0;
+  const SecondKindOperator op(std::move(k), topo, num_capsules, x, lambda,
+                              options.deflate, box_volume);
   Eigen::VectorXd w = op.unknown_of(as_vector(u));
   // Eigen's GMRES measures its tolerance against the initial residual; we want it
   // against ||f|| (a good first guess must not tighten the stop), so GMRES solves for

@@ -39,14 +39,28 @@
 // of |f| at lambda = 0.1, 10 and 1000 for two unit spheres 0.4 apart at level 3, below
 // the discretisation error (5e-3 at level 3 in the drop test).
 //
+// In the sheared periodic box (periodic_double_layer.hpp) a rigid translation t of one
+// capsule is no longer an eigenfunction: K maps it to t/2 less (V_m/V) t on every
+// capsule, V_m its volume and V the box's; rotations about the volume centroids still
+// go to half themselves. So P there is the oblique projection on the rigid-body motions
+// whose translations have zero volume-weighted sum (P[w] less its mean translation on
+// every capsule; still a projection, and K P = P/2 exactly): the collective translation
+// is left in the operator, where its eigenvalue 1/2 - phi keeps I - kappa K_d at least
+// 2/(1 + lambda) + kappa phi. The flux identity becomes int_{A_c} n . K[u] dA =
+// -1/2 int_{A_c} n . u dA + (V_c/V) sum_m int_{A_m} n . u dA, and (m, w) = 0 on every
+// capsule follows as before (summing over the capsules, (1 - kappa phi) sum_m (m_m, w) =
+// 0), so u = w + (lambda - 1)/2 P[w] again solves the original equation.
+//
 // Measured on a sphere (level 3, tolerance 1e-10, lambda 0.001-1000): 6-8 GMRES
 // iterations with deflation, 7-11 without; on an ellipsoid 1.5 : 1 : 0.6, 11-16 with and
 // 11-20 without. The spectrum left after deflation, [-0.08, 0.31] on the sphere, keeps
 // I - kappa K_d within [0.38, 1.62] for every lambda.
 #include "stokes/double_layer/double_layer.hpp"
+#include "stokes/double_layer/periodic_double_layer.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/Dense>
+#include <functional>
 #include <vector>
 
 namespace capsim {
@@ -71,11 +85,20 @@ struct SecondKindResult {
   bool converged = true; // residual <= tolerance
 };
 
+// k = K[u] at the nodes: the free-space or the periodic double layer of one geometry.
+using DoubleLayerApply =
+    std::function<void(const std::vector<Vec3>& u, std::vector<Vec3>& k)>;
+
 // The operator w -> A w = w - kappa K_d[w] (or w - kappa K[w] without deflation) of M
 // capsules, with the maps between the deflated unknown w and the velocity u.
 class SecondKindOperator {
 public:
-  // k must outlive this object and belong to the same topology, capsules and positions.
+  // k must belong to the same topology, capsules and positions; box_volume: that of the
+  // periodic box whose double layer k is (0: unbounded fluid).
+  SecondKindOperator(DoubleLayerApply k, const Topology& topo, int num_capsules,
+                     const std::vector<Vec3>& x, double lambda, bool deflate,
+                     double box_volume = 0);
+  // The free-space double layer k, which must outlive this object.
   SecondKindOperator(const DoubleLayer& k, const Topology& topo, int num_capsules,
                      const std::vector<Vec3>& x, double lambda, bool deflate);
 
@@ -86,7 +109,8 @@ public:
   void apply(const Eigen::VectorXd& w, Eigen::VectorXd& y) const;
   // y = K_d[w] (or K[w] without deflation), for tests of the spectrum.
   void apply_kernel(const Eigen::VectorXd& w, Eigen::VectorXd& y) const;
-  // y = P[w], the projection on each capsule's rigid-body motions.
+  // y = P[w], the projection on each capsule's rigid-body motions (in a periodic box
+  // less their volume-weighted mean translation).
   void rigid_projection(const Eigen::VectorXd& w, Eigen::VectorXd& y) const;
   // y = N[w], the projection on each capsule's normal mode m.
   void normal_projection(const Eigen::VectorXd& w, Eigen::VectorXd& y) const;
@@ -95,27 +119,36 @@ public:
   Eigen::VectorXd unknown_of(const Eigen::VectorXd& u) const;
 
 private:
-  const DoubleLayer& k_;
+  DoubleLayerApply k_;
   int num_nodes_, nodes_per_capsule_, num_capsules_;
   double lambda_, kappa_;
   bool deflate_;
-  std::vector<double> area_; // lumped node areas a_i
-  std::vector<Vec3> centre_; // per capsule, the area-weighted centroid
+  bool periodic_;              // the collective translation stays out of P
+  std::vector<double> volume_; // per capsule, the P1 polyhedron's
+  std::vector<double> area_;   // lumped node areas a_i
+  std::vector<Vec3> centre_;   // per capsule, the volume centroid (rotations' pivot)
   std::vector<Eigen::Matrix<double, 6, 6>> gram_inverse_; // per capsule
   std::vector<Vec3> nu_;                                  // nu_i = node area vector / 6
   std::vector<double> normal_norm2_; // per capsule, (m, m) = sum |nu_i|^2 / a_i
   std::vector<Vec3> positions_;      // the nodes, for the rotation modes
 };
 
+// The sheared periodic box of a suspension: its lattice and Ewald parameters.
+struct SecondKindBox {
+  ShearedLattice lattice;
+  EwaldParameters ewald;
+};
+
 // Solves u - kappa K[u] = f at the nodes of M capsules (lambda > 0 and finite, else
-// std::invalid_argument). u: on entry the
-// initial guess (for example the previous step's velocity; resized to zeros if empty), on
-// exit the solution. At lambda = 1 (kappa = 0) u = f exactly, with no iteration.
+// std::invalid_argument), in unbounded fluid or (box) in the periodic box. u: on entry
+// the initial guess (for example the previous step's velocity; resized to zeros if
+// empty), on exit the solution. At lambda = 1 (kappa = 0) u = f exactly, with no
+// iteration.
 SecondKindResult solve_second_kind(const Topology& topo, int num_capsules,
                                    const std::vector<Vec3>& x, double lambda,
                                    const std::vector<Vec3>& f,
                                    const QuadratureOptions& quadrature,
-                                   const SecondKindOptions& options,
-                                   std::vector<Vec3>& u);
+                                   const SecondKindOptions& options, std::vector<Vec3>& u,
+                                   const SecondKindBox* box = nullptr);
 
 } // namespace capsim

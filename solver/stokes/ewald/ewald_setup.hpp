@@ -32,6 +32,11 @@ struct PeriodicBox {
   double L = 0;
   EwaldMethod method = EwaldMethod::spectral;
   EwaldParameters ewald;
+  // The double layer's (lambda != 1; stokes/double_layer/periodic_double_layer.hpp):
+  // plain Ewald sums at the same tolerance, with the xi of least modelled cost for them,
+  // whatever method the single layer takes (Spectral Ewald's own xi would make the
+  // direct reciprocal sum far too long).
+  EwaldParameters double_layer;
   SpectralParameters grid; // method spectral: its grid
   int patch_level = 1;     // method patches: patches are the faces of this level
 };
