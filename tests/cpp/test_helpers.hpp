@@ -14,6 +14,18 @@ inline double observed_order(double coarse_error, double fine_error) {
   return std::log2(coarse_error / fine_error);
 }
 
+// The largest |a_i - b_i| over the largest |b_i|: the relative difference of two fields
+// at the same nodes.
+inline double relative_difference(const std::vector<Vec3>& a,
+                                  const std::vector<Vec3>& b) {
+  double d = 0, s = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    d = std::max(d, norm(a[i] - b[i]));
+    s = std::max(s, norm(b[i]));
+  }
+  return d / s;
+}
+
 // Affine map x -> (sx x, sy y, sz z) followed by a rotation by `angle` about z.
 inline std::vector<Vec3> stretched(const std::vector<Vec3>& x, double sx, double sy,
                                    double sz, double angle = 0) {

@@ -44,15 +44,6 @@ struct Suspension {
   }
 };
 
-double relative_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double d = 0, s = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, norm(a[i] - b[i]));
-    s = std::max(s, norm(b[i]));
-  }
-  return d / s;
-}
-
 } // namespace
 
 TEST_CASE("periodic: a capsule in a large box sees the free-space flow plus O(L^-3)",
@@ -60,8 +51,8 @@ TEST_CASE("periodic: a capsule in a large box sees the free-space flow plus O(L^
   Suspension one({{0.3, -0.2, 0.1}});
   std::vector<Vec3> free;
   single_layer_velocity(one.mesh.topology, 1, one.x, one.q, {}, free);
-  double d15 = relative_difference(one.periodic(15, 0.0, 1e-8), free);
-  double d30 = relative_difference(one.periodic(30, 0.0, 1e-8), free);
+  double d15 = testing::relative_difference(one.periodic(15, 0.0, 1e-8), free);
+  double d30 = testing::relative_difference(one.periodic(30, 0.0, 1e-8), free);
   INFO("L = 15: " << d15 << ", L = 30: " << d30);
   CHECK(d30 < 1e-3);
   CHECK(d15 / d30 == Approx(8.0).margin(2.5));
@@ -77,7 +68,7 @@ TEST_CASE("periodic: the velocity does not depend on xi", "[periodic]") {
   auto ref = two.periodic(L, 0.2, 1e-8, 1.0 * xi0);
   for (double factor : {3.0, 8.0}) {
     const double diff =
-        relative_difference(two.periodic(L, 0.2, 1e-8, factor * xi0), ref);
+        testing::relative_difference(two.periodic(L, 0.2, 1e-8, factor * xi0), ref);
     INFO("xi = " << factor << " sqrt(pi)/L: " << diff);
     CHECK(diff < 1e-8); // measured 7.3e-10 and 7.4e-10
   }
@@ -91,8 +82,8 @@ TEST_CASE("periodic: images and strain periods give identical velocities", "[per
        Vec3{2.9, 2.4, -0.3} + lattice_point(make_sheared_lattice(L, 0.2), 1, -1, 2)});
   const double xi = 2.0 * 1.77245385 / L; // exact invariances: any accuracy will do
   auto ua = a.periodic(L, 0.2, 1e-6, xi);
-  CHECK(relative_difference(b.periodic(L, 0.2, 1e-6, xi), ua) < 1e-10);
-  CHECK(relative_difference(a.periodic(L, 1.2, 1e-6, xi), ua) < 1e-10);
+  CHECK(testing::relative_difference(b.periodic(L, 0.2, 1e-6, xi), ua) < 1e-10);
+  CHECK(testing::relative_difference(a.periodic(L, 1.2, 1e-6, xi), ua) < 1e-10);
 }
 
 TEST_CASE("periodic: Spectral Ewald matches the direct reciprocal sum", "[periodic]") {
@@ -100,7 +91,8 @@ TEST_CASE("periodic: Spectral Ewald matches the direct reciprocal sum", "[period
   for (double strain : {0.0, 0.45}) {
     auto direct = two.periodic(10.0, strain, 1e-8, 1.2);
     auto spectral = two.periodic(10.0, strain, 1e-8, 1.2, true);
-    CHECK(relative_difference(spectral, direct) < 1e-7); // measured 2.2e-8, 2.4e-8
+    CHECK(testing::relative_difference(spectral, direct) <
+          1e-7); // measured 2.2e-8, 2.4e-8
   }
 }
 
@@ -112,7 +104,7 @@ TEST_CASE("periodic: with Spectral Ewald a large xi (short real space) changes n
   const double L = 12.0;
   auto short_range = two.periodic(L, 0.3, 1e-6, 5.0, true);
   auto reference = two.periodic(L, 0.3, 1e-6, 0.8, true);
-  const double diff = relative_difference(short_range, reference);
+  const double diff = testing::relative_difference(short_range, reference);
   INFO("relative difference " << diff);
   CHECK(diff < 1e-5);
 }
@@ -130,12 +122,12 @@ TEST_CASE("periodic: the real-space sum in single precision rounds, but keeps th
   for (double tol : {1e-3, 1e-5}) {
     const auto dbl = two.periodic(L, 0.3, tol, xi, true);
     const auto sgl = two.periodic(L, 0.3, tol, xi, true, -1, true);
-    const double rounding = relative_difference(sgl, dbl);
+    const double rounding = testing::relative_difference(sgl, dbl);
     INFO("tol " << tol << ": single against double " << rounding << ", against the "
-                << "reference " << relative_difference(sgl, reference));
+                << "reference " << testing::relative_difference(sgl, reference));
     CHECK(rounding > 1e-9); // the single path ran: its rounding shows
     CHECK(rounding < 1e-6); // measured 1.0e-7 at both
-    CHECK(relative_difference(sgl, reference) < tol);
+    CHECK(testing::relative_difference(sgl, reference) < tol);
   }
 }
 
@@ -150,7 +142,8 @@ TEST_CASE("periodic: method patches converges to the fine sum at second order in
   auto fine = two.periodic(L, 0.3, 1e-8, xi);
   double err[3];
   for (int level = 0; level <= 2; ++level)
-    err[level] = relative_difference(two.periodic(L, 0.3, 1e-8, xi, false, level), fine);
+    err[level] =
+        testing::relative_difference(two.periodic(L, 0.3, 1e-8, xi, false, level), fine);
   INFO("P = 20, 80, 320: " << err[0] << ", " << err[1] << ", " << err[2]);
   CHECK(err[1] < 1e-2); // the paper's bound for P = 80 (eq. 3.12)
   CHECK(err[0] / err[1] > 3.0);

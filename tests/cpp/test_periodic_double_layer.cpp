@@ -43,15 +43,6 @@ struct Capsules {
   }
 };
 
-double relative_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double d = 0, s = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, norm(a[i] - b[i]));
-    s = std::max(s, norm(b[i]));
-  }
-  return d / s;
-}
-
 double max_error(const std::vector<Vec3>& a, size_t begin, size_t end, Vec3 expected) {
   double e = 0;
   for (size_t i = begin; i < end; ++i)
@@ -71,7 +62,7 @@ TEST_CASE("periodic double layer: the result does not depend on xi",
   const auto ref = two.periodic(L, 0.2, 1e-8, xi0);
   for (double factor : {2.0, 4.0}) {
     const double diff =
-        relative_difference(two.periodic(L, 0.2, 1e-8, factor * xi0), ref);
+        testing::relative_difference(two.periodic(L, 0.2, 1e-8, factor * xi0), ref);
     INFO("xi = " << factor << " sqrt(pi)/L: " << diff);
     CHECK(diff < 1e-8);
   }
@@ -86,8 +77,8 @@ TEST_CASE("periodic double layer: a capsule in a large box sees the free-space K
   Capsules one({{0.3, -0.2, 0.1}});
   std::vector<Vec3> free;
   DoubleLayer(one.mesh.topology, 1, one.x, {}).apply(one.u, free);
-  const double d15 = relative_difference(one.periodic(15, 0.0, 1e-8), free);
-  const double d30 = relative_difference(one.periodic(30, 0.0, 1e-8), free);
+  const double d15 = testing::relative_difference(one.periodic(15, 0.0, 1e-8), free);
+  const double d30 = testing::relative_difference(one.periodic(30, 0.0, 1e-8), free);
   INFO("L = 15: " << d15 << ", L = 30: " << d30);
   CHECK(d30 < 1e-3);
   CHECK(d15 / d30 == Approx(8.0).margin(1.0));
@@ -177,9 +168,9 @@ TEST_CASE("periodic double layer: lattice images and strain periods give the sam
   Capsules b({{0.2, 0.1, 0.0}, Vec3{2.9, 2.4, -0.3} + lattice_point(g, 1, -1, 2)});
   Capsules c({Vec3{0.2, 0.1, 0.0} + lattice_point(g, -1, 1, 0), {2.9, 2.4, -0.3}});
   const auto ka = a.periodic(L, 0.2, 1e-6, xi);
-  const double db = relative_difference(b.periodic(L, 0.2, 1e-6, xi), ka);
-  const double dc = relative_difference(c.periodic(L, 0.2, 1e-6, xi), ka);
-  const double ds = relative_difference(a.periodic(L, 1.2, 1e-6, xi), ka);
+  const double db = testing::relative_difference(b.periodic(L, 0.2, 1e-6, xi), ka);
+  const double dc = testing::relative_difference(c.periodic(L, 0.2, 1e-6, xi), ka);
+  const double ds = testing::relative_difference(a.periodic(L, 1.2, 1e-6, xi), ka);
   INFO("shifted second " << db << ", shifted first " << dc << ", strain + 1 " << ds);
   CHECK(db < 1e-10);
   CHECK(dc < 1e-10);
