@@ -1,12 +1,14 @@
 """The cost of another viscosity inside (lambda != 1) against lambda = 1, one capsule in
-unbounded shear, in one invocation on the same machine.
+unbounded shear or (--capsules, --phi) a suspension, in one invocation on the same
+machine.
 
     python3 benchmarks/viscosity_ratio_cost.py [--levels 2 3] [--lambdas 1 0.2 5 10]
-        [--ca 0.2] [--strain 1] [--threads 2] [--out benchmarks/records/F.json]
+        [--ca 0.2] [--strain 1] [--capsules 1 --phi 0] [--threads 2]
+        [--out benchmarks/records/F.json]
 
 Each case runs `capsim run --profile` from the same start over the same strain, and
-reports the time loop's seconds per unit strain (set-up excluded; one capsule, so per
-capsule-strain), the steps and evaluations, the GMRES iterations per evaluation and the
+reports the time loop's seconds per capsule-strain (set-up excluded), the steps and
+evaluations, the GMRES iterations per evaluation and the
 largest residual (summary.json), and the ratio of each cost to lambda = 1 at the same
 mesh. The solve's residual (1e-10) is far below the velocity's discretisation error
 (tests/cpp/test_double_layer.cpp), so the cases differ in cost, not in accuracy. Run it
@@ -28,19 +30,20 @@ from analysis.read_run import read_summary  # noqa: E402
 from pipeline.command_line import run_command  # noqa: E402
 
 
-def run_case(capsim, level, lam, ca, strain, threads, scratch):
+def run_case(capsim, level, lam, ca, strain, threads, scratch, capsules=1, phi=0.0):
     out = Path(scratch) / f"l{level}_lambda{lam:g}"
     profile = out.with_suffix(".json")
     settings = {"ca": ca, "mesh_level": level, "lambda": lam, "t_end": strain,
-                "t_avg_start": 0, "threads": threads,
-                "output.checkpoint_interval": strain}
+                "t_avg_start": 0, "threads": threads, "capsules": capsules, "phi": phi,
+                "output.checkpoint_interval": strain, "output.snapshot_interval": 0}
     subprocess.run(run_command(capsim, settings, out, "-q", "--profile", str(profile)),
                    check=True)
     prof, summary = json.loads(profile.read_text()), read_summary(out)
     strain_run = float(summary["t_end"])
-    return {"mesh_level": level, "lambda": lam, "strain": strain_run,
-            "steps": prof["steps"], "evaluations": prof["evaluations"],
-            "seconds_per_strain": prof["seconds"]["loop"] / strain_run,
+    return {"mesh_level": level, "lambda": lam, "capsules": capsules, "phi": phi,
+            "strain": strain_run, "steps": prof["steps"],
+            "evaluations": prof["evaluations"],
+            "seconds_per_strain": prof["seconds"]["loop"] / strain_run / capsules,
             "gmres_iterations_mean": summary.get("gmres_iterations_mean", 0.0),
             "gmres_iterations_max": summary.get("gmres_iterations_max", 0),
             "gmres_residual_max": summary.get("gmres_residual_max", 0.0)}
@@ -53,6 +56,9 @@ def main(argv=None):
     ap.add_argument("--lambdas", type=float, nargs="+", default=[1.0, 0.2, 5.0, 10.0])
     ap.add_argument("--ca", type=float, default=0.2)
     ap.add_argument("--strain", type=float, default=1.0)
+    ap.add_argument("--capsules", type=int, default=1, help="capsules per box")
+    ap.add_argument("--phi", type=float, default=0.0, help="volume fraction (0: one "
+                    "capsule in unbounded shear)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--out", help="write the record here (JSON)")
     args = ap.parse_args(argv)
@@ -63,7 +69,7 @@ def main(argv=None):
         for level in args.levels:
             for lam in args.lambdas:
                 cases.append(run_case(args.capsim, level, lam, args.ca, args.strain,
-                                      args.threads, scratch))
+                                      args.threads, scratch, args.capsules, args.phi))
     for case in cases:
         base = next(c for c in cases if c["mesh_level"] == case["mesh_level"]
                     and c["lambda"] == 1.0)

@@ -151,7 +151,7 @@ def viscosity_ratio_lines(results, figure_dir):
             lines += [png.with_suffix(".txt").read_text(encoding="utf-8").strip(), ""]
     lines += ["The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
               "is not computed yet: capsim's periodic double layer is a plain Ewald sum, "
-              "about 200 times the cost of lambda = 1 (`docs/method.md`).", ""]
+              "380 times the cost of lambda = 1 at lambda 5 (`docs/method.md`).", ""]
     return lines
 
 
