@@ -150,8 +150,8 @@ def viscosity_ratio_lines(results, figure_dir):
         if png.with_suffix(".txt").exists():
             lines += [png.with_suffix(".txt").read_text(encoding="utf-8").strip(), ""]
     lines += ["The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
-              "is not computed yet: capsim's periodic double layer is a plain Ewald sum, "
-              "380 times the cost of lambda = 1 at lambda 5 (`docs/method.md`).", ""]
+              "is not computed yet: at lambda 5 it costs 76 times lambda = 1 "
+              "(`docs/method.md`).", ""]
     return lines
 
 

@@ -83,8 +83,9 @@ void CpuFlow::output_velocity(const std::vector<Vec3>& x, double t,
 // u_inf + u_SL in u on entry; on exit the surface velocity of capsules of interior
 // viscosity lambda mu: u - kappa K[u] = 2/(1 + lambda) (u_inf + u_SL)
 // (second_kind_solve.hpp, Pozrikidis 1992 ch. 5), deflated, from the previous
-// evaluation's velocity; in the periodic box with the periodic double layer by plain
-// Ewald sums (periodic_double_layer.hpp, PeriodicBox::double_layer), whose mean
+// evaluation's velocity; in the periodic box with the periodic double layer
+// (periodic_double_layer.hpp, PeriodicBox::double_layer: Spectral-Ewald sums where the
+// single layer's are, plain ones otherwise), whose mean
 // velocity is u_inf's: the suspension's true mean differs from it by a uniform
 // translation, which moves no capsule relative to another and no stress.
 void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
@@ -98,7 +99,10 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
   SecondKindOptions options;
   options.tolerance = kSecondKindTolerance;
   options.deflate = true;
-  const SecondKindBox box{lattice(t), setup_.box.double_layer};
+  const PeriodicBox& b = setup_.box;
+  const SecondKindBox box{lattice(t), b.double_layer,
+                          b.method == EwaldMethod::spectral ? &b.double_layer_grid
+                                                            : nullptr};
   const SecondKindResult r = solve_second_kind(
       membrane().topology(), num_capsules(), x, lambda, f, setup_.quadrature, options,
       previous_velocity_, periodic() ? &box : nullptr);

@@ -54,12 +54,15 @@ PeriodicDoubleLayer::PeriodicDoubleLayer(const Topology& topo, int num_capsules,
                                          const std::vector<Vec3>& x,
                                          const ShearedLattice& lattice,
                                          const EwaldParameters& ewald,
-                                         const QuadratureOptions& quad)
+                                         const QuadratureOptions& quad,
+                                         const SpectralParameters* spectral)
     : topo_(topo), num_capsules_(num_capsules), x_(x), lattice_(lattice), ewald_(ewald),
       quad_(quad), y_(rule_positions(topo, num_capsules, x)),
       cells_(lattice, ewald.r_cut, y_), k_(half_wave_vectors(lattice, ewald.k_cut)) {
   if (!(ewald.xi > 0 && ewald.r_cut > 0 && ewald.k_cut > 0))
     throw std::invalid_argument("PeriodicDoubleLayer: xi and the cut-offs must be > 0");
+  if (spectral)
+    spectral_ = std::make_unique<SpectralStresslet>(lattice.L, ewald, *spectral);
   for (int c = 0; c < num_capsules; ++c)
     volume_.push_back(enclosed_volume(topo, &x[size_t(c) * topo.num_nodes]));
   for (const Vec3& k : k_)
@@ -112,9 +115,11 @@ void PeriodicDoubleLayer::setup_near_lists() {
 // self_: the far rule of T^per(x_i - y) . n over node i's own capsule and its images,
 // real space (own capsule's points within r_cut) plus reciprocal space (per capsule
 // structure factors B_c(k) = sum_{g in c} a_g exp(-i k . y_g), then
-// -(8 pi / V) sum_k phi A(k) Im[exp(i k . x_i) B_c(k)]).
+// -(8 pi / V) sum_k phi A(k) Im[exp(i k . x_i) B_c(k)]; with Spectral Ewald one grid
+// pass per capsule, SpectralStresslet::add_group_matrices).
 void PeriodicDoubleLayer::setup_self_matrices() {
-  const int n = num_nodes(), nk = int(k_.size());
+  const int n = num_nodes();
+  const int nk = spectral_ ? 0 : int(k_.size()); // the direct sum's wave vectors
   const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
   const double rc2 = ewald_.r_cut * ewald_.r_cut;
   // B_c(k): [capsule][k] real and imaginary vectors.
@@ -148,6 +153,9 @@ void PeriodicDoubleLayer::setup_self_matrices() {
     for (int c = 0; c < 6; ++c)
       self_[c][i] = m[c] + pre * f[c];
   }
+  if (spectral_)
+    spectral_->add_group_matrices(lattice_, y_, a_, per_capsule, x_,
+                                  size_t(topo_.num_nodes), self_);
 }
 
 std::vector<Vec3> PeriodicDoubleLayer::rule_densities(const std::vector<Vec3>& u) const {
@@ -182,6 +190,26 @@ void PeriodicDoubleLayer::add_real_space(const std::vector<Vec3>& ug,
 // Q_j(k) = sum_g u_gi A_ijl(k) a_gl exp(-i k . y_g), over half the wave vectors, twice.
 void PeriodicDoubleLayer::add_reciprocal(const std::vector<Vec3>& ug,
                                          std::vector<Vec3>& sum) const {
+  if (spectral_) {
+    // The grid carries the symmetric part of u_g a_g^T: A(k) is fully symmetric, so the
+    // contraction sees only it (stresslet_spectral_mode).
+    StressletSources src;
+    const size_t ng = y_.size();
+    for (auto& c : src.y)
+      c.resize(ng);
+    for (auto& c : src.d)
+      c.resize(ng);
+    for (size_t g = 0; g < ng; ++g) {
+      const Vec3 u = ug[g], a = a_[g];
+      src.y[0][g] = y_[g].x, src.y[1][g] = y_[g].y, src.y[2][g] = y_[g].z;
+      src.d[0][g] = u.x * a.x, src.d[1][g] = u.y * a.y, src.d[2][g] = u.z * a.z;
+      src.d[3][g] = 0.5 * (u.x * a.y + u.y * a.x);
+      src.d[4][g] = 0.5 * (u.x * a.z + u.z * a.x);
+      src.d[5][g] = 0.5 * (u.y * a.z + u.z * a.y);
+    }
+    spectral_->add_reciprocal(lattice_, src, x_, sum);
+    return;
+  }
   const int nk = int(k_.size());
   std::vector<Vec3> q_re(nk), q_im(nk);
 #pragma omp parallel for schedule(static)

@@ -9,7 +9,8 @@
 //      cell lists (PeriodicCells);
 //    - reciprocal space: summed directly over the half of 0 < |k| < k_cut of the sheared
 //      reciprocal lattice, O((N + N_src) K) (as ewald_reciprocal_direct does for the
-//      single layer);
+//      single layer), or, given SpectralParameters, by Spectral Ewald (af Klinteberg &
+//      Tornberg 2014; SpectralStresslet, spectral_ewald.hpp), O(N P^3 + M^3 log M);
 //  - near corrections (triangle images closer than far_ratio diameters to a node): the
 //    free-space correction of double_layer_near_correction, right for every xi because
 //    T^per - T is smooth (as for the single layer, periodic_single_layer.hpp).
@@ -47,9 +48,11 @@
 // set up once.
 #include "mesh/icosphere.hpp"
 #include "stokes/cells/periodic_cells.hpp"
+#include "stokes/ewald/spectral_ewald.hpp"
 #include "stokes/kernels/periodic_stokeslet.hpp"
 #include "stokes/single_layer/single_layer.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace capsim {
@@ -59,9 +62,13 @@ class PeriodicDoubleLayer {
 public:
   // x: num_capsules * topo.num_nodes positions, capsule after capsule (copied, as are
   // the topology, lattice and parameters). ewald: xi and the cut-offs (r_cut, k_cut).
+  // spectral: null for the direct reciprocal sums (the reference), else the grid of the
+  // Spectral Ewald reciprocal sums of apply() and of the self matrices
+  // (choose_stresslet_spectral_parameters with the same ewald).
   PeriodicDoubleLayer(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
                       const ShearedLattice& lattice, const EwaldParameters& ewald,
-                      const QuadratureOptions& quad);
+                      const QuadratureOptions& quad,
+                      const SpectralParameters* spectral = nullptr);
 
   int num_nodes() const { return int(x_.size()); }
   int num_capsules() const { return num_capsules_; }
@@ -106,6 +113,9 @@ private:
   // Half of the wave vectors 0 < |k| < k_cut and their screening phi(k).
   std::vector<Vec3> k_;
   std::vector<double> phi_;
+  // The Spectral Ewald grid of add_reciprocal and setup_self_matrices, or null (direct
+  // sums). Its grids are work space: apply() is not reentrant with it.
+  std::unique_ptr<SpectralStresslet> spectral_;
   // Per node: sum over its own capsule's rule points and images of T^per(x_i - y_g) a_g
   // (xx, yy, zz, xy, xz, yz), the far part of the subtracted term.
   std::vector<double> self_[6];

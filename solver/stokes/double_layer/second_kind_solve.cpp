@@ -249,8 +249,8 @@ SecondKindResult solve_second_kind(const Topology& topo, int num_capsules,
   std::unique_ptr<PeriodicDoubleLayer> periodic;
   DoubleLayerApply k;
   if (box) {
-    periodic = std::make_unique<PeriodicDoubleLayer>(topo, num_capsules, x, box->lattice,
-                                                     box->ewald, quadrature);
+    periodic = std::make_unique<PeriodicDoubleLayer>(
+        topo, num_capsules, x, box->lattice, box->ewald, quadrature, box->spectral);
     k = [&periodic](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
       periodic->apply(w, out);
     };

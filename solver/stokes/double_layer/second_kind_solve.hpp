@@ -133,10 +133,12 @@ private:
   std::vector<Vec3> positions_;      // the nodes, for the rotation modes
 };
 
-// The sheared periodic box of a suspension: its lattice and Ewald parameters.
+// The sheared periodic box of a suspension: its lattice, Ewald parameters and, for
+// Spectral-Ewald reciprocal sums, their grid (null: plain Ewald sums).
 struct SecondKindBox {
   ShearedLattice lattice;
   EwaldParameters ewald;
+  const SpectralParameters* spectral = nullptr;
 };
 
 // Solves u - kappa K[u] = f at the nodes of M capsules (lambda > 0 and finite, else

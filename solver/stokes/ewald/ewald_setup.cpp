@@ -82,9 +82,14 @@ PeriodicBox make_periodic_box(double L, const EwaldOptions& request, long nodes,
   box.ewald.single_real = takes_single(request.real_space_precision, tolerance);
   if (request.xi > 0)
     check_given_xi(L, xi, box.ewald);
+  const EwaldMethod double_layer_method = request.method == EwaldMethod::spectral
+                                              ? EwaldMethod::spectral
+                                              : EwaldMethod::direct;
   box.double_layer = choose_ewald_parameters(
-      L, tolerance, automatic_xi(L, EwaldMethod::direct, tolerance, nodes, points));
+      L, tolerance, automatic_xi(L, double_layer_method, tolerance, nodes, points));
   if (request.method == EwaldMethod::spectral) {
+    box.double_layer_grid =
+        choose_stresslet_spectral_parameters(L, box.double_layer, tolerance);
     box.grid = choose_spectral_parameters(L, box.ewald, tolerance);
     box.grid.single = takes_single(request.precision, tolerance);
   }

@@ -32,13 +32,14 @@ struct PeriodicBox {
   double L = 0;
   EwaldMethod method = EwaldMethod::spectral;
   EwaldParameters ewald;
-  // The double layer's (lambda != 1; stokes/double_layer/periodic_double_layer.hpp):
-  // plain Ewald sums at the same tolerance, with the xi of least modelled cost for them,
-  // whatever method the single layer takes (Spectral Ewald's own xi would make the
-  // direct reciprocal sum far too long).
+  // The double layer's (lambda != 1; stokes/double_layer/periodic_double_layer.hpp), at
+  // the same tolerance: with method spectral its Spectral-Ewald sums (double_layer_grid,
+  // the stresslet's own support) at their xi of least modelled cost, otherwise plain
+  // Ewald sums at theirs.
   EwaldParameters double_layer;
-  SpectralParameters grid; // method spectral: its grid
-  int patch_level = 1;     // method patches: patches are the faces of this level
+  SpectralParameters double_layer_grid; // method spectral
+  SpectralParameters grid;              // method spectral: its grid
+  int patch_level = 1; // method patches: patches are the faces of this level
 };
 
 // The precision of a stage of the periodic sums (the Spectral-Ewald grids and FFTs, the

@@ -16,6 +16,8 @@
 // direction, so its support stays P points in each. The stencil weights and the mode
 // scaling are the host-device functions of spectral_weights.hpp, shared with the CUDA
 // backend; this class is the CPU orchestration (parallel spreading, FFTW, gathering).
+// SpectralStresslet (below) runs the periodic double layer's stresslet through the same
+// pipeline (spectral_ewald.cpp: SpectralPipeline), with its own k-space kernel.
 #include "stokes/kernels/periodic_stokeslet.hpp"
 #include "stokes/quadrature/triangle_sources.hpp"
 
@@ -40,6 +42,12 @@ struct SpectralParameters {
 SpectralParameters choose_spectral_parameters(double L, const EwaldParameters& ewald,
                                               double tolerance);
 
+// The parameters for the stresslet (SpectralStresslet): those of the stokeslet at a
+// thirtieth of the tolerance, two more points of support (spectral_ewald.cpp).
+SpectralParameters choose_stresslet_spectral_parameters(double L,
+                                                        const EwaldParameters& ewald,
+                                                        double tolerance);
+
 // xi for Spectral Ewald: the real-space sums cost ~ nodes x (points within r_cut), the
 // grid ~ M^3 log M with M ~ xi L (spreading and gathering do not depend on xi); returns
 // the xi of least modelled cost (docs/method.md, docs/performance.md).
@@ -60,6 +68,48 @@ public:
   void add_reciprocal(const ShearedLattice& lattice, const FarSources& sources,
                       const std::vector<Vec3>& targets, std::vector<Vec3>& u,
                       SpectralTimings* timings = nullptr);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The stresslet's sources: points y and the symmetric part of the source tensor u a^T
+// (u the double-layer density, a the area-weighted normal at the point), entries xx, yy,
+// zz, xy, xz, yz.
+struct StressletSources {
+  std::vector<double> y[3];
+  std::vector<double> d[6];
+  size_t size() const { return y[0].size(); }
+};
+
+// Spectral Ewald for the reciprocal part of the periodic stresslet (af Klinteberg &
+// Tornberg 2014, "Fast Ewald summation for Stokesian particle suspensions", section 3),
+// on the same grid pipeline as SpectralEwald: six source grids (the Fourier kernel
+// sees only the symmetric part of u a^T), three result grids. Parameters from
+// choose_stresslet_spectral_parameters.
+class SpectralStresslet {
+public:
+  SpectralStresslet(double L, const EwaldParameters& ewald, const SpectralParameters& p);
+  ~SpectralStresslet();
+  SpectralStresslet(const SpectralStresslet&) = delete;
+  SpectralStresslet& operator=(const SpectralStresslet&) = delete;
+
+  // Adds (1/V) sum_{k != 0} phi(k) T^_ijk(k) D^_jk(k) exp(i k . x) at the targets, the
+  // reciprocal part of sum_g u_gj T^per_ijk(x - y_g) a_gk (ewald_stresslet.hpp (3)).
+  void add_reciprocal(const ShearedLattice& lattice, const StressletSources& sources,
+                      const std::vector<Vec3>& targets, std::vector<Vec3>& u,
+                      SpectralTimings* timings = nullptr);
+
+  // Adds to m[e][i] (e: xx, yy, zz, xy, xz, yz) the reciprocal part of
+  // sum_{g in group(i)} T^per_ijk(targets[i] - y_g) a_gk, the groups consecutive blocks
+  // of group_points points (y, a) and group_targets targets (a capsule's rule points and
+  // nodes: the double layer's self matrices). One grid pass per group, so O(groups)
+  // FFTs: set up once per geometry.
+  void add_group_matrices(const ShearedLattice& lattice, const std::vector<Vec3>& y,
+                          const std::vector<Vec3>& a, size_t group_points,
+                          const std::vector<Vec3>& targets, size_t group_targets,
+                          std::vector<double>* m);
 
 private:
   struct Impl;

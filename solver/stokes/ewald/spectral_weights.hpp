@@ -205,4 +205,84 @@ CAPSIM_HD void scale_spectral_mode(const ShearedLattice& g, const SpreadGrid& s,
                         spectral_mode_weight(g, s, i0, i1, i2, xi, c), re, im);
 }
 
+// The stresslet (af Klinteberg & Tornberg 2014; stokes/double_layer/ewald_stresslet.hpp):
+// Hasimoto's screening phi(k) = (1 + q) exp(-q), q = k^2/(4 xi^2), with the two spread
+// Gaussians' transform divided out, as spectral_multiplier_weight does for the stokeslet.
+CAPSIM_HD double stresslet_multiplier_weight(Vec3 k, double xi, const double eta[3]) {
+  const double k2 = dot(k, k), c = 1.0 / (4.0 * xi * xi), q = k2 * c;
+  const double left = (1.0 - eta[0]) * k.x * k.x + (1.0 - eta[1]) * k.y * k.y +
+                      (1.0 - eta[2]) * k.z * k.z;
+  return (1.0 + q) * exp_nonpositive(-left * c);
+}
+
+// The stresslet multiplier of mode (i0, i1, i2) times c; zero at k = 0 (T^_ijk has no
+// limit there and the periodic stresslet omits it: periodic_double_layer.hpp) and at the
+// Nyquist modes, as spectral_mode_weight.
+CAPSIM_HD_INLINE double stresslet_mode_weight(const ShearedLattice& g,
+                                              const SpreadGrid& s, int i0, int i1, int i2,
+                                              double xi, double c) {
+  const int n0 = fft_wave_number(s.m[0], i0), n1 = fft_wave_number(s.m[1], i1);
+  const bool nyquist = 2 * n0 == s.m[0] || 2 * n0 == -s.m[0] || 2 * n1 == s.m[1] ||
+                       2 * n1 == -s.m[1] || 2 * i2 == s.m[2];
+  const Vec3 k = spectral_mode_vector(g, s, i0, i1, i2);
+  const double w = c * stresslet_multiplier_weight(k, xi, s.eta);
+  return nyquist || dot(k, k) == 0 ? 0.0 : w;
+}
+
+// The stresslet's grid mode: the transformed source tensor S (the symmetric part of
+// u a^T, whose six entries xx, yy, zz, xy, xz, yz are re[0..5], im[0..5]) mapped to
+// w i A_ijl(k) S_jl, A of ewald_stresslet.hpp (3):
+//   A(k) : S = (tr S k + 2 S k) / k^2 - 2 (k . S k) k / k^4,
+// only S's symmetric part and trace entering, which is why six grids suffice (af
+// Klinteberg & Tornberg 2014, section 3). The result goes to re[0..2], im[0..2].
+CAPSIM_HD void stresslet_spectral_mode(Vec3 k, double w, double re[6], double im[6]) {
+  if (w == 0) {
+    for (int a = 0; a < 3; ++a)
+      re[a] = im[a] = 0;
+    return;
+  }
+  const double k2 = dot(k, k), inv_k2 = 1.0 / k2;
+  auto contract = [&](const double* s) {
+    const Vec3 sk{s[0] * k.x + s[3] * k.y + s[4] * k.z,
+                  s[3] * k.x + s[1] * k.y + s[5] * k.z,
+                  s[4] * k.x + s[5] * k.y + s[2] * k.z};
+    const double tr = s[0] + s[1] + s[2], ksk = dot(k, sk);
+    return inv_k2 * ((tr - 2.0 * ksk * inv_k2) * k + 2.0 * sk);
+  };
+  const Vec3 ar = contract(re), ai = contract(im);
+  // i (ar + i ai) = -ai + i ar
+  re[0] = -w * ai.x, re[1] = -w * ai.y, re[2] = -w * ai.z;
+  im[0] = w * ar.x, im[1] = w * ar.y, im[2] = w * ar.z;
+}
+
+// The stresslet's self-matrix mode: the transformed normals a (re[0..2], im[0..2]) mapped
+// to the symmetric matrix w i A_ijl(k) a_l (xx, yy, zz, xy, xz, yz in re[0..5],
+// im[0..5]), A_ijl a_l = (d_ij (k . a) + k_i a_j + a_i k_j) / k^2 - 2 k_i k_j (k . a) /
+// k^4 (symmetric_rank3_add_matrix of ewald_stresslet.hpp with v = k).
+CAPSIM_HD void stresslet_matrix_spectral_mode(Vec3 k, double w, double re[6],
+                                              double im[6]) {
+  if (w == 0) {
+    for (int a = 0; a < 6; ++a)
+      re[a] = im[a] = 0;
+    return;
+  }
+  const double inv_k2 = 1.0 / dot(k, k);
+  auto contract = [&](const double* v, double* m) {
+    const Vec3 a{v[0], v[1], v[2]};
+    const double ka = dot(k, a), e = -2.0 * ka * inv_k2 * inv_k2;
+    m[0] = inv_k2 * (2.0 * a.x * k.x + ka) + e * k.x * k.x;
+    m[1] = inv_k2 * (2.0 * a.y * k.y + ka) + e * k.y * k.y;
+    m[2] = inv_k2 * (2.0 * a.z * k.z + ka) + e * k.z * k.z;
+    m[3] = inv_k2 * (a.x * k.y + k.x * a.y) + e * k.x * k.y;
+    m[4] = inv_k2 * (a.x * k.z + k.x * a.z) + e * k.x * k.z;
+    m[5] = inv_k2 * (a.y * k.z + k.y * a.z) + e * k.y * k.z;
+  };
+  double mr[6], mi[6];
+  contract(re, mr);
+  contract(im, mi);
+  // i (mr + i mi) = -mi + i mr
+  for (int a = 0; a < 6; ++a)
+    re[a] = -w * mi[a], im[a] = w * mr[a];
+}
+
 } // namespace capsim
