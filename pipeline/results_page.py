@@ -24,7 +24,7 @@ from PIL import Image
 
 from analysis import paper_comparison, viscosity_ratio
 from analysis.tables import markdown_table
-from pipeline import archive
+from pipeline import archive, run_spec
 from pipeline.run_spec import ROOT, physics_version
 
 FIGURES = [f"fig{n:02d}" for n in range(3, 13)]  # the paper's results, figures 3-12
@@ -150,8 +150,10 @@ def viscosity_ratio_lines(results, figure_dir):
         if png.with_suffix(".txt").exists():
             lines += [png.with_suffix(".txt").read_text(encoding="utf-8").strip(), ""]
     lines += ["The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
-              "is not computed yet: at lambda 5 it costs 76 times lambda = 1 "
-              "(`docs/method.md`).", ""]
+              "is not computed yet: at lambda 5 it costs "
+              f"{run_spec.lambda_cost_ratio(2, 5.0, dense=True):.0f} times lambda = 1 "
+              "(M = 8, level 2, phi 0.3: `benchmarks/records/viscosity_ratio_cost_dense.json`, "
+              "`docs/method.md`).", ""]
     return lines
 
 

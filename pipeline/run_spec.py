@@ -72,6 +72,7 @@ UNKEYED_AT_FORMER_VALUE = ("lambda", "membrane.law")
 # or a prefix of keys).
 NOT_IN_KEY = ("t_end", "t_avg_start", "threads", "backend")
 UNUSED_BY_DILUTE = ("method", "seed", "ewald.", "suspension.")
+UNUSED_AT_LAMBDA_1 = ("gmres.",)  # the second-kind solve's: no solve at lambda = 1
 
 
 EDGE_LEVEL3 = 0.151  # mean edge length of the level-3 icosphere of radius 1
@@ -119,18 +120,45 @@ def flat_options(options, prefix=""):
     return out
 
 
+@functools.cache
+def _lambda_cost_ratios(dense):
+    name = "viscosity_ratio_cost_dense.json" if dense else "viscosity_ratio_cost.json"
+    record = json.loads((ROOT / "benchmarks" / "records" / name).read_text())
+    return {(c["mesh_level"], c["lambda"]): c["cost_ratio"] for c in record["cases"]}
+
+
+def lambda_cost_ratio(level, ratio, dense):
+    """A capsule-strain's cost at viscosity ratio `ratio` over lambda 1's, from the
+    benchmark's records (benchmarks/records/viscosity_ratio_cost.json, one capsule, and
+    _dense.json, M 8 at phi 0.3): the measured case at the nearest level and the nearest
+    ratio on the same side of 1, doubled a level up (a solve costs a few evaluations of
+    the double layer, whose cost grows a level up as the single layer's does, and the
+    iterations do not), halved a level down."""
+    if ratio == 1.0:
+        return 1.0
+    table = _lambda_cost_ratios(dense)
+    near = min({lev for lev, _ in table}, key=lambda lev: abs(lev - level))
+    side = [lam for lev, lam in table
+            if lev == near and lam != 1.0 and (lam < 1.0) == (ratio < 1.0)]
+    lam = min(side, key=lambda v: abs(math.log(v / ratio)))
+    return table[(near, lam)] * 2.0 ** (level - near)
+
+
 def key_options(options):
     """The options a key hashes, from a run's resolved options (flat or nested, as
     run.yaml, summary.json's parameters or `capsim params --json` hold them): every one
     but NOT_IN_KEY (and UNUSED_BY_DILUTE for phi = 0), ADDED_OPTIONS filled in, those of
-    UNKEYED_AT_FORMER_VALUE left out at their former value, in one spelling."""
+    UNKEYED_AT_FORMER_VALUE left out at their former value, UNUSED_AT_LAMBDA_1 at
+    lambda = 1, in one spelling."""
     flat = {**ADDED_OPTIONS, **flat_options(options)}
     dilute = float(flat.get("phi", 0)) == 0
+    unused = (UNUSED_BY_DILUTE if dilute else ()) + (
+        UNUSED_AT_LAMBDA_1 if float(flat["lambda"]) == 1 else ())
     former = {key for key in UNKEYED_AT_FORMER_VALUE
               if _canonical(flat[key]) == _canonical(ADDED_OPTIONS[key])}
     return {key: _canonical(value) for key, value in sorted(flat.items())
             if key not in NOT_IN_KEY and key not in former
-            and not (dilute and key.startswith(UNUSED_BY_DILUTE))}
+            and not key.startswith(unused)}
 
 
 def options_key(options, version):
@@ -290,10 +318,8 @@ class RunSpec:
         0.56 of that, with the present build: 0.44-0.47 of the cost of 4952f1d's build,
         benchmarks/records/build_compare_defaults.json, whose step was 1.22-1.26 times
         the profile's, build_compare.json). A capsule of another viscosity (lambda != 1)
-        solves for its velocity each evaluation: 13 times lambda 1's cost at level 3
-        above lambda 1 and 20 times below (its shorter step), half that a level down
-        (benchmarks/records/viscosity_ratio_cost.json: 12.8-13.1 and 20.2 at level 3,
-        5.9-6.1 and 9.8 at level 2)."""
+        solves for its velocity each evaluation: lambda_cost_ratio times lambda 1's
+        cost."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         eb = membrane_codes.parse(self.membrane, "membrane").get("eb", 0.0)
@@ -304,9 +330,8 @@ class RunSpec:
             for name, then in FORMER_DEFAULTS.items())
         rkc3 = option_value(given.get("time.scheme", "")) == "rkc" and \
             str(option_value(given.get("time.stages", ""))) == "3"
-        ratio = float(option_value(given.get("lambda", 1)))
-        solved = (1.0 if ratio == 1.0
-                  else (20.0 if ratio < 1 else 13.0) * 2.0 ** (self.level - 3))
+        solved = lambda_cost_ratio(self.level, float(option_value(given.get("lambda", 1))),
+                                   dense=not self.dilute)
         return (base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
                 * (0.57 if rkc3 else 1.0) * solved)
 

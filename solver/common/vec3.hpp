@@ -10,6 +10,13 @@ struct Vec3 {
   double x = 0, y = 0, z = 0;
 };
 
+// Exact equality, component by component (the same state, bit for bit but for -0 = 0).
+CAPSIM_HD bool operator==(Vec3 a, Vec3 b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+CAPSIM_HD bool operator!=(Vec3 a, Vec3 b) {
+  return !(a == b);
+}
 CAPSIM_HD Vec3 operator+(Vec3 a, Vec3 b) {
   return {a.x + b.x, a.y + b.y, a.z + b.z};
 }

@@ -250,8 +250,15 @@ const std::vector<Param>& parameters() {
           [](RunOptions& o) -> double& { return o.lambda; },
           "viscosity ratio of the capsule's interior to the suspending fluid; 1 = equal "
           "(the paper); otherwise, on the CPU backend, the velocity solves the "
-          "second-kind boundary integral equation (in a suspension with the periodic "
-          "double layer by plain Ewald sums)"),
+          "second-kind boundary integral equation by GMRES (in a suspension with the "
+          "periodic double layer, summed as the single layer is)"),
+      real(
+          "gmres.tolerance", {1e-12, 1e-2, false, false},
+          [](RunOptions& o) -> double& { return o.gmres_tolerance; },
+          "lambda != 1: GMRES stops when the second-kind equation's residual is this "
+          "fraction of its right-hand side; the velocity is then off by about twice "
+          "that, far below the discretisation error (5e-3 at mesh_level 3); each decade "
+          "tighter costs about two double layers per evaluation"),
       named(
           "method", kEwaldMethods,
           [](RunOptions& o) -> EwaldMethod& { return o.ewald.method; },

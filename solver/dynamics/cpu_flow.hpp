@@ -19,7 +19,10 @@ public:
   SecondKindStats second_kind_stats() const override { return stats_; }
   void output_velocity(const std::vector<Vec3>& x, double t,
                        std::vector<Vec3>& u) const override;
-  void forget_history() const override { previous_velocity_.clear(); }
+  void forget_history() const override {
+    previous_velocity_.clear();
+    output_.x.clear();
+  }
 
 protected:
   void evaluate_velocity(const std::vector<Vec3>& x, double t,
@@ -28,6 +31,7 @@ protected:
 private:
   void solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
                              std::vector<Vec3>& u) const;
+  bool output_velocity_fits(const std::vector<Vec3>& x, double t) const;
 
   std::unique_ptr<SpectralEwald> spectral_; // FFT plans and grids, made once
   // lambda != 1: the last evaluation's velocity, GMRES's first guess for the next one
@@ -35,6 +39,15 @@ private:
   // the solves' counts. Mutable: evaluating the flow does not change what it is.
   mutable std::vector<Vec3> previous_velocity_;
   mutable SecondKindStats stats_;
+  // lambda != 1: the last output's state, first guess and velocity. The next step's
+  // first evaluation is usually at that state from that guess (a sample comes between
+  // two steps), so it takes the output's velocity instead of solving again: the same
+  // solve, bit for bit, at one evaluation in four or fewer.
+  struct OutputVelocity {
+    std::vector<Vec3> x, guess, u;
+    double t = 0;
+  };
+  mutable OutputVelocity output_;
 };
 
 } // namespace capsim

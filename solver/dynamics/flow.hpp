@@ -46,6 +46,8 @@ struct FlowSetup {
   // is u_inf + u_SL; otherwise the second-kind solution of
   // stokes/double_layer/second_kind_solve.hpp, in unbounded fluid or the periodic box.
   double lambda = 1.0;
+  // lambda != 1: GMRES stops at this residual relative to the right-hand side.
+  double gmres_tolerance = 1e-6;
 };
 
 // What a backend can evaluate. Declared once per backend, checked once by the factory.

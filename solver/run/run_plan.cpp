@@ -97,6 +97,7 @@ FlowSetup flow_setup(const RunPlan& plan, const Membrane& membrane) {
   s.box = plan.box;
   s.repulsion = o.suspension.repulsion;
   s.lambda = o.lambda;
+  s.gmres_tolerance = o.gmres_tolerance;
   return s;
 }
 

@@ -15,6 +15,7 @@
 #include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -72,6 +73,11 @@ SteadyCapsule steady_capsule(double ca, double lambda, double t_end) {
 TEST_CASE("lambda: the key, its range and its default", "[lambda]") {
   CHECK(parse_run_options("", {}).lambda == 1);
   CHECK(parse_run_options("", {"lambda=0.2"}).lambda == 0.2);
+  CHECK(parse_run_options("", {}).gmres_tolerance == 1e-6);
+  for (const char* bad : {"gmres.tolerance=0", "gmres.tolerance=0.1"})
+    CHECK_THROWS_WITH(
+        parse_run_options("", {bad}),
+        Catch::StartsWith("gmres.tolerance: must be a number in [1e-12, 0.01], got"));
   for (const char* bad : {"lambda=0", "lambda=0.005", "lambda=101", "lambda=nan"})
     CHECK_THROWS_WITH(parse_run_options("", {bad}),
                       Catch::StartsWith("lambda: must be a number in [0.01, 100], got"));
@@ -293,7 +299,13 @@ static void check_small_deformation(double lambda) {
   // The solves' counts in summary.json, only where there are solves.
   CHECK_THAT(c.summary, Catch::Contains("\"gmres_iterations_mean\"") &&
                             Catch::Contains("\"gmres_residual_max\""));
-  CHECK_THAT(ref.summary, !Catch::Contains("gmres"));
+  CHECK_THAT(ref.summary, !Catch::Contains("\"gmres_"));
+  // Every solve reached gmres.tolerance (default 1e-6).
+  const size_t at = c.summary.find("\"gmres_residual_max\": ");
+  REQUIRE(at != std::string::npos);
+  const double residual = std::strtod(c.summary.c_str() + at + 22, nullptr);
+  CHECK(residual > 0);
+  CHECK(residual <= 1e-6);
 }
 
 TEST_CASE("lambda: a nearly rigid capsule at lambda 0.2 has the D and [mu] of lambda 1",

@@ -7,7 +7,7 @@
 # Optional: a configuration without the block has no such runs. Run by its own target,
 # `snakemake viscosity_ratio`, not by `all`; `on_page: true` (set it once its runs are in
 # the archive) puts its table and figure on the results page, whose rule then needs them.
-# No suspensions yet: at lambda 5 a dense run costs 76 times lambda 1's (docs/method.md).
+# No suspensions yet: at lambda 5 a dense run costs 33 times lambda 1's (docs/method.md).
 # Output: results/viscosity_ratio/table.csv (and .md), results/figures/viscosity_ratio.png.
 import json
 
