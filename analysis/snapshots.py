@@ -27,10 +27,13 @@ def snapshot_files(run_dir):
 
 
 def read_snapshot(path):
-    """One snapshot file as a dict: "nodes" (N, 3), "triangles" (T, 3), and those of
-    "time", "num_capsules", "box_side", "strain" the file holds (Python numbers)."""
+    """One snapshot file as a dict: "nodes" (N, 3), "triangles" (T, 3), "velocity"
+    (N, 3) where the file holds it, and those of "time", "num_capsules", "box_side",
+    "strain" the file holds (Python numbers)."""
     with h5py.File(path, "r") as f:
         out = {"nodes": f["nodes"][()], "triangles": f["triangles"][()]}
+        if "velocity" in f:
+            out["velocity"] = f["velocity"][()]
         out.update({k: f[k][()].item() for k in SCALARS if k in f})
     return out
 

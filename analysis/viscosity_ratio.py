@@ -6,9 +6,10 @@ One row per (Ca, lambda): <D>, theta_D, the intrinsic viscosity [mu] = mu_sp / p
 phi -> 0 and [N1], [N2] (analysis.tables.run_row, the dilute study's reduction), each with
 the standard error of its time average over [t_start, last sample]; how the run ended
 (`t_end`, or capsim's `numerical` for a membrane that folded or a step that failed, at
-`t_stop`), and the GMRES iterations per solve of its last invocation (summary.json; none
-at lambda 1, where nothing is solved). capsim reports no tank-treading frequency, so the
-table has none.
+`t_stop`), the GMRES iterations per solve of its last invocation (summary.json; none
+at lambda 1, where nothing is solved), and the tank-treading frequency over gammadot from
+the run's last snapshot (analysis.tank_treading; one instant of the steady state, so no
+standard error; NaN where the membrane does not tank-tread there).
 
     python -m analysis.viscosity_ratio --runs JSON --t-start 10 --out-csv T.csv --out-md T.md
 
@@ -23,6 +24,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from analysis import tank_treading
 from analysis.read_run import read_summary
 from analysis.tables import markdown_table, run_row, stopped_row, write_table
 
@@ -32,7 +34,7 @@ GMRES = ("gmres_solves", "gmres_iterations_mean", "gmres_iterations_max")
 COLUMNS = (("ca", "lambda", "mesh_level", "N_E", "ended", "t_stop", "t_start", "t_end",
             "count")
            + tuple(c for q in QUANTITIES for c in (q, SE.get(q, f"{q}_se")))
-           + GMRES
+           + GMRES + ("tank_treading",)
            # for figures/common.footer(): one capsule, phi 0, the paper's membrane
            + ("phi", "capsules", "seed", "intrinsic", "membrane", "run"))
 
@@ -71,6 +73,7 @@ def run_values(entry, t_start):
     # summary.json writes a value that is not finite as null, and none at lambda 1
     out.update({key: float(summary.get(key) if summary.get(key) is not None else math.nan)
                 for key in GMRES})
+    out["tank_treading"] = tank_treading.run_frequency(path)
     out.update({"phi": 0.0, "capsules": 1, "seed": int(row["seed"]), "intrinsic": 1,
                 "membrane": row["membrane"], "run": str(path)})
     return out
@@ -100,12 +103,14 @@ def markdown(table):
     and its GMRES iterations per solve, then a line on the window and what is missing."""
     shown = pd.DataFrame({"ca": table["ca"], "lambda": table["lambda"],
                           **{q: table[q] for q in QUANTITIES},
+                          "tank_treading": table["tank_treading"],
                           "gmres": table.apply(gmres_text, axis=1),
                           "ended": table.apply(ended_text, axis=1)})
     errors = {q: table[SE.get(q, f"{q}_se")] for q in QUANTITIES}
-    formats = {"ca": "g", "lambda": "g"} | {q: ".4g" for q in QUANTITIES}
+    formats = {"ca": "g", "lambda": "g", "tank_treading": ".4g"} | {
+        q: ".4g" for q in QUANTITIES}
     headers = ["Ca", "lambda", "<D>", "theta_D (deg)", "[mu]", "[N1]", "[N2]",
-               "GMRES iterations per solve", "ended"]
+               "tank-treading frequency / gammadot", "GMRES iterations per solve", "ended"]
     levels = ", ".join(str(n) for n in sorted(set(table["N_E"])))
     starts = ", ".join(f"{t:g}" for t in sorted(set(table["t_start"].dropna())))
     notes = [f"One capsule in unbounded shear, N_E {levels}, averages from gammadot t = "
@@ -113,8 +118,10 @@ def markdown(table):
              "average (docs/conventions.md). [mu], [N1], [N2]: intrinsic values (mu_sp, "
              "N1, N2 over phi as phi -> 0). The paper has lambda = 1 only: the other rows "
              "are beyond it. GMRES: the mean (and largest) iterations per second-kind "
-             "solve of the run's last invocation. capsim reports no tank-treading "
-             "frequency."]
+             "solve of the run's last invocation. Tank-treading frequency: 2 pi over the "
+             "period of a membrane point's orbit near the shear plane, from the last "
+             "snapshot's node velocities (analysis/tank_treading.py; a rigid sphere's is "
+             "1/2); nan where the membrane does not turn all the way round."]
     return "\n".join([markdown_table(shown, formats, headers, errors=errors), ""] + notes)
 
 

@@ -1,5 +1,5 @@
-"""The viscosity-ratio study: one capsule in unbounded shear, D, theta_D and the intrinsic
-viscosity [mu] against Ca, one line per viscosity ratio lambda (the paper's lambda = 1
+"""The viscosity-ratio study: one capsule in unbounded shear, D, theta_D, the intrinsic
+viscosity [mu] and the tank-treading frequency against Ca, one line per viscosity ratio lambda (the paper's lambda = 1
 among them). Runs that stopped before their end are not drawn: the caption lists them,
 with when and how they stopped.
 
@@ -13,7 +13,9 @@ from common import plt
 
 from analysis.viscosity_ratio import SE
 
-PANELS = (("D", "D"), ("theta_D_deg", r"$\theta_D$ (deg)"), ("mu_sp", r"$[\mu]$"))
+PANELS = (("D", "D"), ("theta_D_deg", r"$\theta_D$ (deg)"), ("mu_sp", r"$[\mu]$"),
+          ("tank_treading", r"$\omega_{tt} / \dot\gamma$"))
+NO_ERROR = ("tank_treading",)  # one snapshot: no standard error
 MARKERS = ("o", "s", "D", "^", "v", "P", "X")
 
 
@@ -38,14 +40,15 @@ def main():
     finished = table[table["ended"] == "t_end"]
     ratios = sorted(set(table["lambda"]))
     colors = common.colors(ratios)
-    fig, axes = plt.subplots(1, len(PANELS), figsize=(7.5, 2.6))
+    fig, axes = plt.subplots(1, len(PANELS), figsize=(10, 2.6))
     plotted = []
     for i, ratio in enumerate(ratios):
         rows = finished[finished["lambda"] == ratio].sort_values("ca")
         if rows.empty:
             continue
         for ax, (q, _) in zip(axes, PANELS):
-            common.points(ax, rows["ca"], rows[q], yerr=rows[SE.get(q, f"{q}_se")],
+            error = None if q in NO_ERROR else rows[SE.get(q, f"{q}_se")]
+            common.points(ax, rows["ca"], rows[q], yerr=error,
                           fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
                           label=series_label(ratio))
         plotted.append(rows)
@@ -57,12 +60,15 @@ def main():
     caption = ("One capsule in unbounded shear with interior viscosity lambda times the "
                "suspending fluid's (docs/workflow.md, the viscosity-ratio study); the paper "
                "has lambda = 1 only, the other lines are beyond it. [mu]: the intrinsic "
-               "viscosity, mu_sp / phi as phi -> 0. " + stopped_text(table) + " "
+               "viscosity, mu_sp / phi as phi -> 0. omega_tt: the tank-treading frequency "
+               "from the last snapshot (analysis/tank_treading.py). "
+               + stopped_text(table) + " "
                + common.ERROR_BARS + ". "
                + common.footer(finished if not finished.empty else table))
     data = common.pd.concat(plotted, ignore_index=True) if plotted else table.iloc[:0]
     columns = ["ca", "lambda", "mesh_level", "N_E", "ended"]
-    columns += [c for q, _ in PANELS for c in (q, SE.get(q, f"{q}_se"))]
+    columns += [c for q, _ in PANELS
+                for c in ((q,) if q in NO_ERROR else (q, SE.get(q, f"{q}_se")))]
     common.save(fig, out, data[columns], caption)
 
 

@@ -147,7 +147,7 @@ def test_the_table_reads_the_dilute_reduction_and_the_gmres_counts(tiny_runs):
     assert five["gmres_iterations_mean"] == read_summary(tiny_runs[5])["gmres_iterations_mean"]
     text = vr.markdown(table)
     assert "| 0.2 | 1 |" in text and "none (lambda 1)" in text and "| t_end |" in text
-    assert "beyond it" in text and "no tank-treading frequency" in text
+    assert "beyond it" in text and "Tank-treading frequency" in text
 
 
 def test_a_folder_of_another_ratio_is_refused(tiny_runs):
