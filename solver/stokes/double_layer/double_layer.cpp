@@ -35,33 +35,49 @@ CAPSIM_VECTOR_CLONES Vec3 far_sum(Vec3 x, size_t n, const double* const y[3],
 
 } // namespace
 
-DoubleLayer::DoubleLayer(const Topology& topo, int num_capsules,
-                         const std::vector<Vec3>& x, const QuadratureOptions& opts)
-    : topo_(topo), num_capsules_(num_capsules), x_(x), opts_(opts) {
+DoubleLayerTriangles double_layer_triangles(const Topology& topo, int num_capsules,
+                                            const std::vector<Vec3>& x) {
+  if (int(x.size()) != topo.num_nodes * num_capsules)
+    throw std::invalid_argument(
+        "double layer: num_capsules * num_nodes positions needed");
   const int nt = int(topo.triangles.size()) * num_capsules;
   const TriangleRule rule = triangle_rule_3();
-  unit_normal_.resize(nt);
-  area_.resize(nt);
-  centroid_.resize(nt);
-  diameter_.resize(nt);
-  for (int c = 0; c < 3; ++c)
-    y_[c].resize(size_t(nt) * rule.n), a_[c].resize(size_t(nt) * rule.n);
+  DoubleLayerTriangles tri;
+  tri.unit_normal.resize(nt);
+  tri.area.resize(nt);
+  tri.centroid.resize(nt);
+  tri.diameter.resize(nt);
+  tri.y.resize(size_t(nt) * rule.n);
+  tri.a.resize(size_t(nt) * rule.n);
   for (int t = 0; t < nt; ++t) {
-    const TriangleLoad load = triangle_load(topo, x_, x_, t);
+    const TriangleLoad load = triangle_load(topo, x, x, t);
     const Vec3 av = area_vector2(load.p[0], load.p[1], load.p[2]);
-    area_[t] = 0.5 * norm(av);
-    unit_normal_[t] = (1.0 / norm(av)) * av; // outward: counter-clockwise from outside
-    centroid_[t] = triangle_centroid(load.p);
-    diameter_[t] = triangle_diameter(load.p);
+    tri.area[t] = 0.5 * norm(av);
+    tri.unit_normal[t] = (1.0 / norm(av)) * av; // outward: counter-clockwise from outside
+    tri.centroid[t] = triangle_centroid(load.p);
+    tri.diameter[t] = triangle_diameter(load.p);
     for (int g = 0; g < rule.n; ++g) {
-      const Vec3 y = barycentric(load.p, rule.l1[g], rule.l2[g]);
-      const Vec3 a = (rule.w[g] * area_[t]) * unit_normal_[t];
       const size_t k = size_t(t) * rule.n + g;
-      y_[0][k] = y.x, y_[1][k] = y.y, y_[2][k] = y.z;
-      a_[0][k] = a.x, a_[1][k] = a.y, a_[2][k] = a.z;
+      tri.y[k] = barycentric(load.p, rule.l1[g], rule.l2[g]);
+      tri.a[k] = (rule.w[g] * tri.area[t]) * tri.unit_normal[t];
     }
   }
-  const NearLists near = find_near_triangles(x_, centroid_, diameter_, opts.far_ratio);
+  return tri;
+}
+
+DoubleLayer::DoubleLayer(const Topology& topo, int num_capsules,
+                         const std::vector<Vec3>& x, const QuadratureOptions& opts)
+    : topo_(topo), num_capsules_(num_capsules), x_(x), opts_(opts),
+      tri_(double_layer_triangles(topo, num_capsules, x)) {
+  const TriangleRule rule = triangle_rule_3();
+  for (int c = 0; c < 3; ++c)
+    y_[c].resize(tri_.y.size()), a_[c].resize(tri_.a.size());
+  for (size_t k = 0; k < tri_.y.size(); ++k) {
+    y_[0][k] = tri_.y[k].x, y_[1][k] = tri_.y[k].y, y_[2][k] = tri_.y[k].z;
+    a_[0][k] = tri_.a[k].x, a_[1][k] = tri_.a[k].y, a_[2][k] = tri_.a[k].z;
+  }
+  const NearLists near =
+      find_near_triangles(x_, tri_.centroid, tri_.diameter, opts.far_ratio);
   near_offset_ = near.offset;
   near_triangle_ = near.triangle;
   // The far rule of T(x_i - y) . n over node i's own capsule (the subtracted constant's
@@ -89,7 +105,7 @@ DoubleLayer::DoubleLayer(const Topology& topo, int num_capsules,
 
 void DoubleLayer::rule_densities(const std::vector<Vec3>& u,
                                  std::vector<double> (&ug)[3]) const {
-  const int nt = int(area_.size());
+  const int nt = int(tri_.area.size());
   const TriangleRule rule = triangle_rule_3();
   for (auto& v : ug)
     v.resize(size_t(nt) * rule.n);
@@ -133,10 +149,10 @@ void DoubleLayer::apply(const std::vector<Vec3>& u, std::vector<Vec3>& k,
     for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
       const int t = near_triangle_[p];
       const bool same = t / nt_capsule == own;
-      sum += double_layer_near_correction(x_[i], vertex_index(topo_, i, t) >= 0,
-                                          triangle_load(topo_, x_, u, t), unit_normal_[t],
-                                          same ? ui : Vec3{}, area_[t], opts_.near_ratio,
-                                          opts_.max_depth);
+      sum += double_layer_near_correction(
+          x_[i], vertex_index(topo_, i, t) >= 0, triangle_load(topo_, x_, u, t),
+          tri_.unit_normal[t], same ? ui : Vec3{}, tri_.area[t], opts_.near_ratio,
+          opts_.max_depth);
     }
     // The subtracted constant's integral by the on-surface identity: 4 pi u(x_i).
     k[i] = (1.0 / (8.0 * kPi)) * sum + (subtract ? 0.5 : 0.0) * ui;
@@ -154,7 +170,7 @@ void DoubleLayer::apply_at(const std::vector<Vec3>& targets, const std::vector<V
   const double* a[3] = {a_[0].data(), a_[1].data(), a_[2].data()};
   const double* up[3] = {ug[0].data(), ug[1].data(), ug[2].data()};
   const NearLists near =
-      find_near_triangles(targets, centroid_, diameter_, opts_.far_ratio);
+      find_near_triangles(targets, tri_.centroid, tri_.diameter, opts_.far_ratio);
   k.resize(targets.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < int(targets.size()); ++i) {
@@ -162,8 +178,8 @@ void DoubleLayer::apply_at(const std::vector<Vec3>& targets, const std::vector<V
     for (int p = near.offset[i]; p < near.offset[i + 1]; ++p) {
       const int t = near.triangle[p];
       sum += double_layer_near_correction(
-          targets[i], false, triangle_load(topo_, x_, u, t), unit_normal_[t], Vec3{},
-          area_[t], opts_.near_ratio, opts_.max_depth);
+          targets[i], false, triangle_load(topo_, x_, u, t), tri_.unit_normal[t], Vec3{},
+          tri_.area[t], opts_.near_ratio, opts_.max_depth);
     }
     k[i] = (1.0 / (8.0 * kPi)) * sum;
   }

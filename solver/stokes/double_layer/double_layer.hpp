@@ -71,6 +71,20 @@ CAPSIM_HD Vec3 double_layer_near_correction(Vec3 x, bool is_vertex, TriangleLoad
   return sum;
 }
 
+// What the double layer's quadratures need of every triangle of M capsules (global
+// triangle index, capsule after capsule): outward unit normal, area, centroid and
+// diameter, and the 3-point rule's points y and vectors a = w A n, triangle after
+// triangle. Shared by the free-space and the periodic double layer.
+struct DoubleLayerTriangles {
+  std::vector<Vec3> unit_normal, centroid;
+  std::vector<double> area, diameter;
+  std::vector<Vec3> y, a;
+};
+
+// x: num_capsules * topo.num_nodes positions (else std::invalid_argument).
+DoubleLayerTriangles double_layer_triangles(const Topology& topo, int num_capsules,
+                                            const std::vector<Vec3>& x);
+
 // The double layer of one geometry, set up once and applied to many densities (the
 // GMRES iterations of second_kind_solve.hpp share one geometry).
 class DoubleLayer {
@@ -103,11 +117,8 @@ private:
   int num_capsules_;
   std::vector<Vec3> x_;
   QuadratureOptions opts_;
-  std::vector<Vec3> unit_normal_; // per triangle (global index)
-  std::vector<double> area_;      // per triangle
-  std::vector<Vec3> centroid_;
-  std::vector<double> diameter_;
-  // The 3-point rule's points of every triangle: y and a = w A n (structure of arrays).
+  DoubleLayerTriangles tri_;
+  // tri_'s y and a as structure of arrays, for the vectorised far sums.
   std::vector<double> y_[3], a_[3];
   // Per node: sum over its own capsule's 3-point rule of T(x_i - y_g) . a_g (symmetric;
   // xx, yy, zz, xy, xz, yz), the far part of the subtracted term.

@@ -14,24 +14,6 @@
 namespace capsim {
 namespace {
 
-// The 3-point rule's points of every triangle of M capsules, triangle after triangle.
-std::vector<Vec3> rule_positions(const Topology& topo, int num_capsules,
-                                 const std::vector<Vec3>& x) {
-  if (int(x.size()) != topo.num_nodes * num_capsules)
-    throw std::invalid_argument("PeriodicDoubleLayer: num_capsules * num_nodes positions "
-                                "needed");
-  const TriangleRule rule = triangle_rule_3();
-  const int nt = int(topo.triangles.size()) * num_capsules;
-  std::vector<Vec3> y;
-  y.reserve(size_t(nt) * rule.n);
-  for (int t = 0; t < nt; ++t) {
-    const TriangleLoad load = triangle_load(topo, x, x, t);
-    for (int g = 0; g < rule.n; ++g)
-      y.push_back(barycentric(load.p, rule.l1[g], rule.l2[g]));
-  }
-  return y;
-}
-
 // The wave vectors k = m1 b1 + m2 b2 + m3 b3 with 0 < |k| < k_cut in the upper half
 // space (one of each pair k, -k; the selection of ewald_reciprocal.cpp).
 std::vector<Vec3> half_wave_vectors(const ShearedLattice& g, double k_cut) {
@@ -57,8 +39,8 @@ PeriodicDoubleLayer::PeriodicDoubleLayer(const Topology& topo, int num_capsules,
                                          const QuadratureOptions& quad,
                                          const SpectralParameters* spectral)
     : topo_(topo), num_capsules_(num_capsules), x_(x), lattice_(lattice), ewald_(ewald),
-      quad_(quad), y_(rule_positions(topo, num_capsules, x)),
-      cells_(lattice, ewald.r_cut, y_), k_(half_wave_vectors(lattice, ewald.k_cut)) {
+      quad_(quad), tri_(double_layer_triangles(topo, num_capsules, x)),
+      cells_(lattice, ewald.r_cut, tri_.y), k_(half_wave_vectors(lattice, ewald.k_cut)) {
   if (!(ewald.xi > 0 && ewald.r_cut > 0 && ewald.k_cut > 0))
     throw std::invalid_argument("PeriodicDoubleLayer: xi and the cut-offs must be > 0");
   if (spectral)
@@ -67,43 +49,22 @@ PeriodicDoubleLayer::PeriodicDoubleLayer(const Topology& topo, int num_capsules,
     volume_.push_back(enclosed_volume(topo, &x[size_t(c) * topo.num_nodes]));
   for (const Vec3& k : k_)
     phi_.push_back(stresslet_fourier_screening(dot(k, k), ewald.xi));
-  setup_triangles();
   setup_near_lists();
   setup_self_matrices();
-}
-
-void PeriodicDoubleLayer::setup_triangles() {
-  const int nt = int(topo_.triangles.size()) * num_capsules_;
-  const TriangleRule rule = triangle_rule_3();
-  unit_normal_.resize(nt);
-  area_.resize(nt);
-  centroid_.resize(nt);
-  diameter_.resize(nt);
-  a_.resize(size_t(nt) * rule.n);
-  for (int t = 0; t < nt; ++t) {
-    const TriangleLoad load = triangle_load(topo_, x_, x_, t);
-    const Vec3 av = area_vector2(load.p[0], load.p[1], load.p[2]);
-    area_[t] = 0.5 * norm(av);
-    unit_normal_[t] = (1.0 / norm(av)) * av; // outward: counter-clockwise from outside
-    centroid_[t] = triangle_centroid(load.p);
-    diameter_[t] = triangle_diameter(load.p);
-    for (int g = 0; g < rule.n; ++g)
-      a_[size_t(t) * rule.n + g] = (rule.w[g] * area_[t]) * unit_normal_[t];
-  }
 }
 
 // Every node's triangle images closer than far_ratio diameters (by centroid), with the
 // lattice vector to the image.
 void PeriodicDoubleLayer::setup_near_lists() {
-  const NearTriangleCells cells(lattice_, centroid_, diameter_, quad_.far_ratio);
+  const NearTriangleCells cells(lattice_, tri_.centroid, tri_.diameter, quad_.far_ratio);
   near_offset_.assign(1, 0);
   for (const Vec3& xi : x_) {
     cells.for_neighbours(xi, [&](int t, Vec3 image) {
       const Vec3 d = xi - image;
-      const double reach = quad_.far_ratio * diameter_[t];
+      const double reach = quad_.far_ratio * tri_.diameter[t];
       if (dot(d, d) >= reach * reach)
         return;
-      Vec3 shift = image - centroid_[t]; // a lattice vector, up to round-off
+      Vec3 shift = image - tri_.centroid[t]; // a lattice vector, up to round-off
       if (norm(shift) < 1e-9 * lattice_.L)
         shift = Vec3{};
       near_.push_back({t, shift});
@@ -126,11 +87,11 @@ void PeriodicDoubleLayer::setup_self_matrices() {
   std::vector<Vec3> b_re(size_t(num_capsules_) * nk), b_im(b_re.size());
 #pragma omp parallel for schedule(static)
   for (int kk = 0; kk < nk; ++kk)
-    for (size_t g = 0; g < y_.size(); ++g) {
-      const double th = dot(k_[kk], y_[g]);
+    for (size_t g = 0; g < tri_.y.size(); ++g) {
+      const double th = dot(k_[kk], tri_.y[g]);
       const size_t j = (g / per_capsule) * nk + kk;
-      b_re[j] += std::cos(th) * a_[g];
-      b_im[j] -= std::sin(th) * a_[g];
+      b_re[j] += std::cos(th) * tri_.a[g];
+      b_im[j] -= std::sin(th) * tri_.a[g];
     }
   for (auto& s : self_)
     s.assign(n, 0.0);
@@ -142,7 +103,7 @@ void PeriodicDoubleLayer::setup_self_matrices() {
     cells_.for_neighbours(x_[i], [&](int g, Vec3 image) {
       const Vec3 r = x_[i] - image;
       if (int(size_t(g) / per_capsule) == own && dot(r, r) < rc2)
-        stresslet_real_add_matrix(r, a_[g], ewald_.xi, m);
+        stresslet_real_add_matrix(r, tri_.a[g], ewald_.xi, m);
     });
     for (int kk = 0; kk < nk; ++kk) {
       const double th = dot(k_[kk], x_[i]), c = std::cos(th), s = std::sin(th);
@@ -154,13 +115,13 @@ void PeriodicDoubleLayer::setup_self_matrices() {
       self_[c][i] = m[c] + pre * f[c];
   }
   if (spectral_)
-    spectral_->add_group_matrices(lattice_, y_, a_, per_capsule, x_,
+    spectral_->add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
                                   size_t(topo_.num_nodes), self_);
 }
 
 std::vector<Vec3> PeriodicDoubleLayer::rule_densities(const std::vector<Vec3>& u) const {
   const TriangleRule rule = triangle_rule_3();
-  const int nt = int(area_.size());
+  const int nt = int(tri_.area.size());
   std::vector<Vec3> ug(size_t(nt) * rule.n);
   for (int t = 0; t < nt; ++t) {
     const TriangleLoad load = triangle_load(topo_, x_, u, t);
@@ -180,7 +141,7 @@ void PeriodicDoubleLayer::add_real_space(const std::vector<Vec3>& ug,
     cells_.for_neighbours(x_[i], [&](int g, Vec3 image) {
       const Vec3 r = x_[i] - image;
       if (dot(r, r) < rc2)
-        s += stresslet_real_apply(r, ug[g], a_[g], ewald_.xi);
+        s += stresslet_real_apply(r, ug[g], tri_.a[g], ewald_.xi);
     });
     sum[i] += s;
   }
@@ -194,14 +155,14 @@ void PeriodicDoubleLayer::add_reciprocal(const std::vector<Vec3>& ug,
     // The grid carries the symmetric part of u_g a_g^T: A(k) is fully symmetric, so the
     // contraction sees only it (stresslet_spectral_mode).
     StressletSources src;
-    const size_t ng = y_.size();
+    const size_t ng = tri_.y.size();
     for (auto& c : src.y)
       c.resize(ng);
     for (auto& c : src.d)
       c.resize(ng);
     for (size_t g = 0; g < ng; ++g) {
-      const Vec3 u = ug[g], a = a_[g];
-      src.y[0][g] = y_[g].x, src.y[1][g] = y_[g].y, src.y[2][g] = y_[g].z;
+      const Vec3 u = ug[g], a = tri_.a[g];
+      src.y[0][g] = tri_.y[g].x, src.y[1][g] = tri_.y[g].y, src.y[2][g] = tri_.y[g].z;
       src.d[0][g] = u.x * a.x, src.d[1][g] = u.y * a.y, src.d[2][g] = u.z * a.z;
       src.d[3][g] = 0.5 * (u.x * a.y + u.y * a.x);
       src.d[4][g] = 0.5 * (u.x * a.z + u.z * a.x);
@@ -215,9 +176,9 @@ void PeriodicDoubleLayer::add_reciprocal(const std::vector<Vec3>& ug,
 #pragma omp parallel for schedule(static)
   for (int kk = 0; kk < nk; ++kk) {
     Vec3 re, im;
-    for (size_t g = 0; g < y_.size(); ++g) {
-      const Vec3 w = stresslet_fourier_apply(k_[kk], ug[g], a_[g]);
-      const double th = dot(k_[kk], y_[g]);
+    for (size_t g = 0; g < tri_.y.size(); ++g) {
+      const Vec3 w = stresslet_fourier_apply(k_[kk], ug[g], tri_.a[g]);
+      const double th = dot(k_[kk], tri_.y[g]);
       re += std::cos(th) * w;
       im -= std::sin(th) * w;
     }
@@ -250,8 +211,8 @@ Vec3 PeriodicDoubleLayer::near_correction(int i, const std::vector<Vec3>& u,
     for (auto& v : load.p)
       v += shift;
     s += double_layer_near_correction(x_[i], itself && vertex_index(topo_, i, t) >= 0,
-                                      load, unit_normal_[t],
-                                      t / nt_capsule == own ? sub : Vec3{}, area_[t],
+                                      load, tri_.unit_normal[t],
+                                      t / nt_capsule == own ? sub : Vec3{}, tri_.area[t],
                                       quad_.near_ratio, quad_.max_depth);
   }
   return s;

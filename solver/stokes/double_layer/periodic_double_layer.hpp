@@ -48,6 +48,7 @@
 // set up once.
 #include "mesh/icosphere.hpp"
 #include "stokes/cells/periodic_cells.hpp"
+#include "stokes/double_layer/double_layer.hpp"
 #include "stokes/ewald/spectral_ewald.hpp"
 #include "stokes/kernels/periodic_stokeslet.hpp"
 #include "stokes/single_layer/single_layer.hpp"
@@ -88,7 +89,6 @@ private:
     Vec3 shift; // lattice vector from the triangle to its image (exactly 0: itself)
   };
 
-  void setup_triangles();
   void setup_near_lists();
   void setup_self_matrices();
   std::vector<Vec3> rule_densities(const std::vector<Vec3>& u) const;
@@ -104,11 +104,7 @@ private:
   EwaldParameters ewald_;
   QuadratureOptions quad_;
   std::vector<double> volume_; // per capsule
-  // Per triangle (global index).
-  std::vector<Vec3> unit_normal_, centroid_;
-  std::vector<double> area_, diameter_;
-  // The 3-point rule's points of every triangle: y and a = w A n.
-  std::vector<Vec3> y_, a_;
+  DoubleLayerTriangles tri_;
   PeriodicCells cells_; // the rule points, for the real-space sum
   // Half of the wave vectors 0 < |k| < k_cut and their screening phi(k).
   std::vector<Vec3> k_;
