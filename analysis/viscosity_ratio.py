@@ -11,9 +11,16 @@ at lambda 1, where nothing is solved), and the tank-treading frequency over gamm
 the run's last snapshot (analysis.tank_treading; one instant of the steady state, so no
 standard error; NaN where the membrane does not tank-tread there).
 
-    python -m analysis.viscosity_ratio --runs JSON --t-start 10 --out-csv T.csv --out-md T.md
+The dense part (viscosity_ratio.dense, --dense): the grid's suspension at the Table 1
+point's Ca (M capsules in the sheared periodic box) at other ratios, one row per (phi,
+lambda) with <D>, theta_D, mu_sp, N1, N2 and their standard errors, how each run ended
+and its GMRES counts; lambda 1 rows are the grid's own runs.
 
-JSON: a list of {"ca", "lambda", "folder"}, one per run (workflow/rules/viscosity_ratio.smk).
+    python -m analysis.viscosity_ratio [--dense] --runs JSON --t-start 10 --out-csv T.csv \
+        --out-md T.md
+
+JSON: a list of {"ca", "lambda", "folder"} (and "phi" for --dense), one per run
+(workflow/rules/viscosity_ratio.smk).
 """
 
 import argparse
@@ -37,6 +44,7 @@ COLUMNS = (("ca", "lambda", "mesh_level", "N_E", "ended", "t_stop", "t_start", "
            + GMRES + ("tank_treading",)
            # for figures/common.footer(): one capsule, phi 0, the paper's membrane
            + ("phi", "capsules", "seed", "intrinsic", "membrane", "run"))
+DENSE_COLUMNS = tuple(c for c in COLUMNS if c != "tank_treading")
 
 
 def run_ratio(summary):
@@ -45,11 +53,11 @@ def run_ratio(summary):
     return float(summary.get("parameters", {}).get("lambda", 1.0))
 
 
-def run_values(entry, t_start):
-    """One row of the table: the run's averages from t_start (run_row) or, where it
-    stopped before t_start, its stopped_row (count 0, NaN averages); how it ended and
-    when, and its GMRES counts. Refuses a folder whose run carried another lambda (made
-    by other options: delete it to run it again)."""
+def averages(entry, t_start):
+    """The averages of one run from t_start (run_row) or, where it stopped before
+    t_start, its stopped_row (count 0, NaN averages), how it ended and when, and its
+    GMRES counts. Refuses a folder whose run carried another lambda (made by other
+    options: delete it to run it again)."""
     path = Path(entry["folder"])
     summary = read_summary(path)
     if not math.isclose(run_ratio(summary), float(entry["lambda"]), rel_tol=1e-12):
@@ -73,10 +81,16 @@ def run_values(entry, t_start):
     # summary.json writes a value that is not finite as null, and none at lambda 1
     out.update({key: float(summary.get(key) if summary.get(key) is not None else math.nan)
                 for key in GMRES})
-    out["tank_treading"] = tank_treading.run_frequency(path)
-    out.update({"phi": 0.0, "capsules": 1, "seed": int(row["seed"]), "intrinsic": 1,
+    out.update({"phi": float(row["phi"]), "capsules": int(row["capsules"]),
+                "seed": int(row["seed"]), "intrinsic": int(row["intrinsic"]),
                 "membrane": row["membrane"], "run": str(path)})
     return out
+
+
+def run_values(entry, t_start):
+    """One row of the dilute table: averages() and the tank-treading frequency."""
+    return averages(entry, t_start) | {
+        "tank_treading": tank_treading.run_frequency(entry["folder"])}
 
 
 def study_table(runs, t_start):
@@ -84,6 +98,14 @@ def study_table(runs, t_start):
     table = pd.DataFrame([run_values(entry, t_start) for entry in runs],
                          columns=list(COLUMNS))
     return table.sort_values(["ca", "lambda"], kind="stable").reset_index(drop=True)
+
+
+def dense_table(runs, t_start):
+    """The dense table (a DataFrame, DENSE_COLUMNS): one row per run, by phi then
+    lambda."""
+    table = pd.DataFrame([averages(entry, t_start) for entry in runs],
+                         columns=list(DENSE_COLUMNS))
+    return table.sort_values(["phi", "lambda"], kind="stable").reset_index(drop=True)
 
 
 def ended_text(row):
@@ -125,21 +147,46 @@ def markdown(table):
     return "\n".join([markdown_table(shown, formats, headers, errors=errors), ""] + notes)
 
 
+def dense_markdown(table):
+    """The dense table as markdown: each average +- its standard error, how each run
+    ended and its GMRES iterations per solve, then a line on the runs."""
+    shown = pd.DataFrame({"phi": table["phi"], "lambda": table["lambda"],
+                          **{q: table[q] for q in QUANTITIES},
+                          "gmres": table.apply(gmres_text, axis=1),
+                          "ended": table.apply(ended_text, axis=1)})
+    errors = {q: table[SE.get(q, f"{q}_se")] for q in QUANTITIES}
+    formats = {"phi": "g", "lambda": "g"} | {q: ".4g" for q in QUANTITIES}
+    headers = ["phi", "lambda", "<D>", "theta_D (deg)", "mu_sp", "N1", "N2",
+               "GMRES iterations per solve", "ended"]
+    cases = ", ".join(sorted({f"Ca {r['ca']:g}, M {r['capsules']}, N_E {r['N_E']}"
+                              for r in table.to_dict("records")}))
+    starts = ", ".join(f"{t:g}" for t in sorted(set(table["t_start"].dropna())))
+    notes = [f"The suspension in the sheared periodic box ({cases}), averages from "
+             f"gammadot t = {starts} to each run's last sample; +-: the standard error of "
+             "the time average (docs/conventions.md). lambda 1: the grid's own runs (the "
+             "paper's suspension); the other rows are beyond the paper."]
+    return "\n".join([markdown_table(shown, formats, headers, errors=errors), ""] + notes)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--dense", action="store_true",
+                    help="the suspensions' table (viscosity_ratio.dense)")
     ap.add_argument("--runs", required=True, help="the runs as JSON (module docstring)")
     ap.add_argument("--t-start", type=float, required=True,
                     help="start of the averages (config viscosity_ratio t_avg_start)")
     ap.add_argument("--out-csv", required=True)
     ap.add_argument("--out-md", required=True)
     args = ap.parse_args(argv)
-    table = study_table(json.loads(args.runs), args.t_start)
+    runs = json.loads(args.runs)
+    table = dense_table(runs, args.t_start) if args.dense else study_table(runs, args.t_start)
     write_table(args.out_csv, table)
-    Path(args.out_md).write_text(markdown(table) + "\n", encoding="utf-8")
+    text = dense_markdown(table) if args.dense else markdown(table)
+    Path(args.out_md).write_text(text + "\n", encoding="utf-8")
     stopped = table[table["ended"] != "t_end"]
     for row in stopped.to_dict("records"):
-        print(f"viscosity_ratio: Ca {row['ca']:g}, lambda {row['lambda']:g} stopped early: "
-              f"{ended_text(row)}", file=sys.stderr)
+        print(f"viscosity_ratio: Ca {row['ca']:g}, phi {row['phi']:g}, lambda "
+              f"{row['lambda']:g} stopped early: {ended_text(row)}", file=sys.stderr)
     return 0
 
 

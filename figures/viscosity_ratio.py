@@ -23,13 +23,15 @@ def series_label(ratio):
     return rf"$\lambda$ = {ratio:g}" + (" (paper)" if ratio == 1 else "")
 
 
-def stopped_text(rows):
-    """The runs not drawn: their Ca, lambda, how and when they stopped."""
+def stopped_text(rows, by="ca"):
+    """The runs not drawn: their Ca (or, by="phi", phi), lambda, how and when they
+    stopped."""
     early = rows[rows["ended"] != "t_end"]
     if early.empty:
         return "Every run reached its end."
+    name = {"ca": "Ca", "phi": "phi"}[by]
     # records, not itertuples: "lambda" is a Python keyword, no attribute name
-    items = [f"Ca {r['ca']:g}, lambda {r['lambda']:g}: {r['ended']} at gammadot t = "
+    items = [f"{name} {r[by]:g}, lambda {r['lambda']:g}: {r['ended']} at gammadot t = "
              f"{r['t_stop']:.3g}" for r in early.to_dict("records")]
     return "Not drawn, stopped before their end: " + "; ".join(items) + "."
 

@@ -143,17 +143,35 @@ def viscosity_ratio_lines(results, figure_dir):
              "are beyond the paper and have nothing of it to compare with; those at "
              "lambda = 1 are the paper's capsule.", "",
              viscosity_ratio.markdown(pd.read_csv(path)), ""]
-    png = results / "figures" / "viscosity_ratio.png"
-    if png.exists():
-        copy_reduced(png, figure_dir / png.name)
-        lines += [f"![The viscosity ratio]({figure_dir.name}/{png.name})", ""]
-        if png.with_suffix(".txt").exists():
-            lines += [png.with_suffix(".txt").read_text(encoding="utf-8").strip(), ""]
-    lines += ["The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
-              "is not computed yet: at lambda 5 it costs "
-              f"{run_spec.lambda_cost_ratio(2, 5.0, dense=True):.0f} times lambda = 1 "
-              "(M = 8, level 2, phi 0.3: `benchmarks/records/viscosity_ratio_cost_dense.json`, "
-              "`docs/method.md`).", ""]
+    lines += one_figure(results / "figures" / "viscosity_ratio.png", figure_dir,
+                        "The viscosity ratio")
+    dense = results / "viscosity_ratio" / "dense.csv"
+    if not dense.exists():
+        return lines + [
+            "The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
+            "is not computed yet: at lambda 5 it costs "
+            f"{run_spec.lambda_cost_ratio(2, 5.0, dense=True):.0f} times lambda = 1 "
+            "(M = 8, level 2, phi 0.3: `benchmarks/records/viscosity_ratio_cost_dense.json`, "
+            "`docs/method.md`).", ""]
+    return lines + [
+        "### The suspension at other viscosity ratios", "",
+        "The grid's suspension at the Table 1 point's Ca with interior viscosity lambda "
+        "(`snakemake viscosity_ratio_dense`): no code of this field reports the dense, "
+        "sheared rheology of capsules against lambda; the rows at lambda = 1 are the "
+        "paper's suspension.", "",
+        viscosity_ratio.dense_markdown(pd.read_csv(dense)), ""] + one_figure(
+        results / "figures" / "viscosity_ratio_dense.png", figure_dir,
+        "The suspension's viscosity ratio")
+
+
+def one_figure(png, figure_dir, alt):
+    """A figure (reduced, copied into figure_dir) and its caption, where it exists."""
+    if not png.exists():
+        return []
+    copy_reduced(png, figure_dir / png.name)
+    lines = [f"![{alt}]({figure_dir.name}/{png.name})", ""]
+    if png.with_suffix(".txt").exists():
+        lines += [png.with_suffix(".txt").read_text(encoding="utf-8").strip(), ""]
     return lines
 
 
@@ -190,11 +208,7 @@ def figure_lines(results, figures, figure_dir):
         if not png.exists():
             lines += [f"Figure {number}: not in this configuration.", ""]
             continue
-        copy_reduced(png, figure_dir / png.name)
-        caption = png.with_suffix(".txt")
-        lines += [f"![Figure {number}]({figure_dir.name}/{png.name})", ""]
-        if caption.exists():
-            lines += [caption.read_text(encoding="utf-8").strip(), ""]
+        lines += one_figure(png, figure_dir, f"Figure {number}")
     return lines
 
 

@@ -176,9 +176,9 @@ def test_a_run_that_stopped_before_the_window_is_a_row_without_averages(tiny_run
         vr.study_table(entries({1: tiny_runs[1]}), T_END + 1)
 
 
-def run_figure(*args):
-    """figures/viscosity_ratio.py as its command line runs it, in this process."""
-    script = ROOT / "figures" / "viscosity_ratio.py"
+def run_figure(*args, name="viscosity_ratio"):
+    """figures/<name>.py as its command line runs it, in this process."""
+    script = ROOT / "figures" / f"{name}.py"
     argv, path = sys.argv, list(sys.path)
     sys.argv, sys.path[:0] = [str(script), *map(str, args)], [str(script.parent)]
     try:
@@ -220,3 +220,65 @@ def test_the_results_page_section(results, tmp_path):
     assert len(dense) == 1 and "Ca 0.2, phi 0.1-0.3, M = 27" in dense[0]
     ratio = run_spec.lambda_cost_ratio(2, 5.0, dense=True)
     assert f"costs {ratio:.0f} times lambda = 1" in dense[0]
+
+
+# The dense part: the grid's suspension at other ratios.
+
+def test_a_dense_run_is_the_grid_s_suspension_with_lambda_and_the_block_s_options():
+    keys = dict(ca=0.2, phi=0.3, M=27, level=3, seed=1)
+    grid = {"t_end": 30}
+    spec = run_spec.viscosity_ratio_dense(keys, 5, grid, 10, {"ewald.tolerance": "auto"},
+                                          {"gmres.tolerance": 1e-5})
+    assert spec.folder == "results/viscosity_ratio/ca0.2_phi0.3_M27_level3_seed1_lambda5"
+    assert spec.trajectory_options().items() >= {"lambda": 5, "gmres.tolerance": 1e-5,
+                                                 "ewald.tolerance": "auto"}.items()
+    assert (spec.M, spec.t_end, spec.t_avg_start) == (27, 30, 10)
+    with pytest.raises(ValueError, match="lambda 1 is the grid's own run"):
+        run_spec.viscosity_ratio_dense(keys, 1, grid, 10, {})
+
+
+@needs_snakemake
+def test_the_ci_dense_study_plans_its_run_and_the_grid_s_at_lambda_1(tmp_path):
+    runs = planned_runs(dry_run(tmp_path, "viscosity_ratio_dense"))
+    assert runs == ["results/grid/ca0.2_phi0.1_M2_level1_seed1",
+                    "results/viscosity_ratio/ca0.2_phi0.1_M2_level1_seed1_lambda5"]
+
+
+@pytest.fixture(scope="module")
+def tiny_dense(capsim_run):
+    """{lambda: run folder} of two capsules at phi 0.1, Ca 0.2, level 1, to T_END."""
+    return {ratio: capsim_run(f"dense{ratio}", "ca=0.2", "phi=0.1", "capsules=2",
+                              "mesh_level=1", f"lambda={ratio}", f"t_end={T_END}",
+                              f"t_avg_start={T_START}", "output.snapshot_interval=0")
+            for ratio in (1, 5)}
+
+
+def test_the_dense_table_and_figure(tiny_dense, tmp_path):
+    entries = [{"ca": 0.2, "phi": 0.1, "lambda": ratio, "folder": str(folder)}
+               for ratio, folder in tiny_dense.items()]
+    table = vr.dense_table(entries, T_START)
+    assert list(table.columns) == list(vr.DENSE_COLUMNS)
+    for row in table.to_dict("records"):
+        summary = read_summary(tiny_dense[row["lambda"]])
+        assert row["mu_sp"] == pytest.approx(summary["mu_sp"], rel=1e-9)
+        assert row["D"] == pytest.approx(summary["taylor_D"], rel=1e-9)
+        assert (row["phi"], row["capsules"], row["intrinsic"]) == (0.1, 2, 0)
+    assert math.isnan(table["gmres_iterations_mean"][0])
+    assert table["gmres_iterations_mean"][1] > 0
+    text = vr.dense_markdown(table)
+    assert "| 0.1 | 5 |" in text and "Ca 0.2, M 2, N_E 80" in text
+    (tmp_path / "viscosity_ratio").mkdir()
+    table.to_csv(tmp_path / "viscosity_ratio" / "dense.csv", index=False)
+    run_figure("--out", tmp_path / "figures" / "viscosity_ratio_dense",
+               tmp_path / "viscosity_ratio" / "dense.csv", name="viscosity_ratio_dense")
+    data = pd.read_csv(tmp_path / "figures" / "viscosity_ratio_dense.csv")
+    assert list(data["lambda"]) == [1, 5]
+    caption = (tmp_path / "figures" / "viscosity_ratio_dense.txt").read_text()
+    assert "Every run reached its end." in caption
+    # The page shows the dense table where there is one.
+    (tmp_path / "viscosity_ratio" / "table.csv").write_text(
+        ",".join(vr.COLUMNS) + "\n")
+    (tmp_path / "page").mkdir()
+    page = "\n".join(results_page.viscosity_ratio_lines(tmp_path, tmp_path / "page"))
+    assert "### The suspension at other viscosity ratios" in page
+    assert "| 0.1 | 5 |" in page and "not computed yet" not in page

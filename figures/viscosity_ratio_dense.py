@@ -1,0 +1,56 @@
+"""The viscosity-ratio study's suspensions: <D>, theta_D, mu_sp and N1 against phi at the
+Table 1 point's Ca, one line per viscosity ratio lambda (lambda = 1: the grid's runs, the
+paper's suspension). Runs that stopped before their end are not drawn: the caption lists
+them, with when and how they stopped.
+
+Usage: python figures/viscosity_ratio_dense.py --out results/figures/viscosity_ratio_dense \
+           results/viscosity_ratio/dense.csv
+Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
+"""
+
+import common
+from common import plt
+from viscosity_ratio import MARKERS, series_label, stopped_text
+
+from analysis.viscosity_ratio import SE
+
+PANELS = (("D", r"$\langle D \rangle$"), ("theta_D_deg", r"$\theta_D$ (deg)"),
+          ("mu_sp", r"$\mu_{sp}$"), ("N1", "$N_1$"))
+
+
+def main():
+    out, table = common.parse_table_args(__doc__.splitlines()[0])
+    table["ended"] = table["ended"].fillna("t_end")
+    finished = table[table["ended"] == "t_end"]
+    ratios = sorted(set(table["lambda"]))
+    colors = common.colors(ratios)
+    fig, axes = plt.subplots(1, len(PANELS), figsize=(10, 2.6))
+    plotted = []
+    for i, ratio in enumerate(ratios):
+        rows = finished[finished["lambda"] == ratio].sort_values("phi")
+        if rows.empty:
+            continue
+        for ax, (q, _) in zip(axes, PANELS):
+            common.points(ax, rows["phi"], rows[q], yerr=rows[SE.get(q, f"{q}_se")],
+                          fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
+                          label=series_label(ratio))
+        plotted.append(rows)
+    for ax, (_, label) in zip(axes, PANELS):
+        ax.set(xlabel=r"$\phi$", ylabel=label)
+    if axes[0].get_legend_handles_labels()[0]:
+        axes[-1].legend(fontsize=7)
+    fig.tight_layout()
+    caption = ("The suspension of the Table 1 point's Ca in the sheared periodic box with "
+               "interior viscosity lambda times the suspending fluid's (docs/workflow.md, "
+               "the viscosity-ratio study); lambda = 1 is the paper's, the other lines are "
+               "beyond it. " + stopped_text(table, by="phi") + " "
+               + common.ERROR_BARS + ". "
+               + common.footer(finished if not finished.empty else table))
+    data = common.pd.concat(plotted, ignore_index=True) if plotted else table.iloc[:0]
+    columns = ["ca", "phi", "lambda", "capsules", "mesh_level", "N_E", "ended"]
+    columns += [c for q, _ in PANELS for c in (q, SE.get(q, f"{q}_se"))]
+    common.save(fig, out, data[columns], caption)
+
+
+if __name__ == "__main__":
+    main()
