@@ -102,9 +102,11 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
   options.tolerance = setup_.gmres_tolerance;
   options.deflate = true;
   const PeriodicBox& b = setup_.box;
+  const bool spectral = b.method == EwaldMethod::spectral;
   const SecondKindBox box{lattice(t), b.double_layer,
-                          b.method == EwaldMethod::spectral ? &b.double_layer_grid
-                                                            : nullptr};
+                          spectral ? &b.double_layer_grid : nullptr,
+                          spectral ? &b.double_layer_self : nullptr,
+                          spectral ? &b.double_layer_self_grid : nullptr};
   const SecondKindResult r = solve_second_kind(
       membrane().topology(), num_capsules(), x, lambda, f, setup_.quadrature, options,
       previous_velocity_, periodic() ? &box : nullptr);

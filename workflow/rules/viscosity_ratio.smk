@@ -13,7 +13,7 @@
 # `snakemake viscosity_ratio_dense`: the grid's suspension (its M, mesh level, t_end, seed,
 # membrane and run options) at the block's Ca and phi with interior viscosity lambda and
 # the block's further options, results/viscosity_ratio/ca<Ca>_phi<phi>_..._lambda<r>; lambda
-# 1 is the grid's own run. A dense run at lambda 5 costs about 30 times lambda 1's
+# 1 is the grid's own run. A dense run at lambda 5 costs about 27 times lambda 1's
 # (docs/method.md), so they are long: segments of about an hour (run_segment), each
 # archived. With on_page, the results page shows its table and figure too.
 # Output: results/viscosity_ratio/dense.csv (and .md), results/figures/viscosity_ratio_dense.png.

@@ -9,6 +9,7 @@
 #include "stokes/quadrature/triangle_sources.hpp"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace capsim {
@@ -32,12 +33,11 @@ double reciprocal_prefactor(const ShearedLattice& g) {
 
 } // namespace
 
-PeriodicDoubleLayer::PeriodicDoubleLayer(const Topology& topo, int num_capsules,
-                                         const std::vector<Vec3>& x,
-                                         const ShearedLattice& lattice,
-                                         const EwaldParameters& ewald,
-                                         const QuadratureOptions& quad,
-                                         const SpectralParameters* spectral)
+PeriodicDoubleLayer::PeriodicDoubleLayer(
+    const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
+    const ShearedLattice& lattice, const EwaldParameters& ewald,
+    const QuadratureOptions& quad, const SpectralParameters* spectral,
+    const EwaldParameters* self_ewald, const SpectralParameters* self_grid)
     : topo_(topo), num_capsules_(num_capsules), x_(x), lattice_(lattice), ewald_(ewald),
       quad_(quad), tri_(double_layer_triangles(topo, num_capsules, x)),
       cells_(lattice, ewald.r_cut, tri_.y), k_(half_wave_vectors(lattice, ewald.k_cut)) {
@@ -50,7 +50,11 @@ PeriodicDoubleLayer::PeriodicDoubleLayer(const Topology& topo, int num_capsules,
   for (const Vec3& k : k_)
     phi_.push_back(stresslet_fourier_screening(dot(k, k), ewald.xi));
   setup_near_lists();
-  setup_self_matrices();
+  if (!self_ewald != !self_grid)
+    throw std::invalid_argument(
+        "PeriodicDoubleLayer: the self matrices' split needs both "
+        "its parameters and its grid");
+  setup_self_matrices(spectral ? self_ewald : nullptr, self_grid);
 }
 
 // Every node's triangle images closer than far_ratio diameters (by centroid), with the
@@ -78,11 +82,18 @@ void PeriodicDoubleLayer::setup_near_lists() {
 // structure factors B_c(k) = sum_{g in c} a_g exp(-i k . y_g), then
 // -(8 pi / V) sum_k phi A(k) Im[exp(i k . x_i) B_c(k)]; with Spectral Ewald one grid
 // pass per capsule, SpectralStresslet::add_group_matrices).
-void PeriodicDoubleLayer::setup_self_matrices() {
+void PeriodicDoubleLayer::setup_self_matrices(const EwaldParameters* self_ewald,
+                                              const SpectralParameters* self_grid) {
   const int n = num_nodes();
   const int nk = spectral_ ? 0 : int(k_.size()); // the direct sum's wave vectors
   const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
-  const double rc2 = ewald_.r_cut * ewald_.r_cut;
+  // The real-space part at the self matrices' own split, where they have one.
+  const EwaldParameters& ew = self_ewald ? *self_ewald : ewald_;
+  std::optional<PeriodicCells> own_cells;
+  if (self_ewald)
+    own_cells.emplace(lattice_, ew.r_cut, tri_.y);
+  const PeriodicCells& cells = self_ewald ? *own_cells : cells_;
+  const double rc2 = ew.r_cut * ew.r_cut;
   // B_c(k): [capsule][k] real and imaginary vectors.
   std::vector<Vec3> b_re(size_t(num_capsules_) * nk), b_im(b_re.size());
 #pragma omp parallel for schedule(static)
@@ -100,10 +111,10 @@ void PeriodicDoubleLayer::setup_self_matrices() {
   for (int i = 0; i < n; ++i) {
     const int own = i / topo_.num_nodes;
     double m[6] = {0, 0, 0, 0, 0, 0}, f[6] = {0, 0, 0, 0, 0, 0};
-    cells_.for_neighbours(x_[i], [&](int g, Vec3 image) {
+    cells.for_neighbours(x_[i], [&](int g, Vec3 image) {
       const Vec3 r = x_[i] - image;
       if (int(size_t(g) / per_capsule) == own && dot(r, r) < rc2)
-        stresslet_real_add_matrix(r, tri_.a[g], ewald_.xi, m);
+        stresslet_real_add_matrix(r, tri_.a[g], ew.xi, m);
     });
     for (int kk = 0; kk < nk; ++kk) {
       const double th = dot(k_[kk], x_[i]), c = std::cos(th), s = std::sin(th);
@@ -114,7 +125,11 @@ void PeriodicDoubleLayer::setup_self_matrices() {
     for (int c = 0; c < 6; ++c)
       self_[c][i] = m[c] + pre * f[c];
   }
-  if (spectral_)
+  if (self_ewald)
+    SpectralStresslet(lattice_.L, ew, *self_grid)
+        .add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
+                            size_t(topo_.num_nodes), self_);
+  else if (spectral_)
     spectral_->add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
                                   size_t(topo_.num_nodes), self_);
 }

@@ -66,10 +66,17 @@ public:
   // spectral: null for the direct reciprocal sums (the reference), else the grid of the
   // Spectral Ewald reciprocal sums of apply() and of the self matrices
   // (choose_stresslet_spectral_parameters with the same ewald).
+  // self_ewald, self_grid: with spectral, the split and grid of the self matrices' sums
+  // where they differ from apply()'s (both or neither): one grid pass per capsule makes
+  // them cost most at large M, and a smaller xi coarsens that grid (the real-space part
+  // then reaches further over the capsule's own points). The matrices are the same up
+  // to the Ewald truncation whatever the split.
   PeriodicDoubleLayer(const Topology& topo, int num_capsules, const std::vector<Vec3>& x,
                       const ShearedLattice& lattice, const EwaldParameters& ewald,
                       const QuadratureOptions& quad,
-                      const SpectralParameters* spectral = nullptr);
+                      const SpectralParameters* spectral = nullptr,
+                      const EwaldParameters* self_ewald = nullptr,
+                      const SpectralParameters* self_grid = nullptr);
 
   int num_nodes() const { return int(x_.size()); }
   int num_capsules() const { return num_capsules_; }
@@ -90,7 +97,8 @@ private:
   };
 
   void setup_near_lists();
-  void setup_self_matrices();
+  void setup_self_matrices(const EwaldParameters* self_ewald,
+                           const SpectralParameters* self_grid);
   std::vector<Vec3> rule_densities(const std::vector<Vec3>& u) const;
   // The far-rule sum over all points and images, real and reciprocal parts, at each node.
   void add_real_space(const std::vector<Vec3>& ug, std::vector<Vec3>& sum) const;

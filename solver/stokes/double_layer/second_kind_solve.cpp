@@ -250,7 +250,8 @@ SecondKindResult solve_second_kind(const Topology& topo, int num_capsules,
   DoubleLayerApply k;
   if (box) {
     periodic = std::make_unique<PeriodicDoubleLayer>(
-        topo, num_capsules, x, box->lattice, box->ewald, quadrature, box->spectral);
+        topo, num_capsules, x, box->lattice, box->ewald, quadrature, box->spectral,
+        box->self_ewald, box->self_grid);
     k = [&periodic](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
       periodic->apply(w, out);
     };

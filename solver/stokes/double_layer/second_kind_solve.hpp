@@ -139,6 +139,9 @@ struct SecondKindBox {
   ShearedLattice lattice;
   EwaldParameters ewald;
   const SpectralParameters* spectral = nullptr;
+  // With spectral, the self matrices' own split (PeriodicDoubleLayer), or null.
+  const EwaldParameters* self_ewald = nullptr;
+  const SpectralParameters* self_grid = nullptr;
 };
 
 // Solves u - kappa K[u] = f at the nodes of M capsules (lambda > 0 and finite, else

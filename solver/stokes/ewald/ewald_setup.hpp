@@ -38,8 +38,12 @@ struct PeriodicBox {
   // Ewald sums at theirs.
   EwaldParameters double_layer;
   SpectralParameters double_layer_grid; // method spectral
-  SpectralParameters grid;              // method spectral: its grid
-  int patch_level = 1; // method patches: patches are the faces of this level
+  // Method spectral: the split and grid of the double layer's self matrices (one grid
+  // pass per capsule; PeriodicDoubleLayer), at kSelfMatrixXiFactor of its xi.
+  EwaldParameters double_layer_self;
+  SpectralParameters double_layer_self_grid;
+  SpectralParameters grid; // method spectral: its grid
+  int patch_level = 1;     // method patches: patches are the faces of this level
 };
 
 // The precision of a stage of the periodic sums (the Spectral-Ewald grids and FFTs, the
