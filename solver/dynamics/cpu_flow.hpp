@@ -41,8 +41,8 @@ private:
   mutable SecondKindStats stats_;
   // lambda != 1: the last output's state, first guess and velocity. The next step's
   // first evaluation is usually at that state from that guess (a sample comes between
-  // two steps), so it takes the output's velocity instead of solving again: the same
-  // solve, bit for bit, at one evaluation in four or fewer.
+  // two steps), so it takes the output's velocity instead of solving again (the same
+  // solve, bit for bit): one solve saved per sample.
   struct OutputVelocity {
     std::vector<Vec3> x, guess, u;
     double t = 0;
