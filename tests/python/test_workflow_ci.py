@@ -75,7 +75,7 @@ def planned_jobs(output):
 # (runs that two studies share counted once: suspensions + dilute runs).
 @pytest.mark.parametrize("configfile, runs", [
     ("config.yaml", 40 + 21),
-    ("quantitative.yaml", 45 + 21),
+    ("quantitative.yaml", 45 + 21 + 22),  # 22: the limit eb -> 0 (eblimit.in_grid)
 ])
 def test_configuration_plans(tmp_path, configfile, runs):
     (tmp_path / "no_archive.yaml").write_text("archive: null\n")
