@@ -60,14 +60,14 @@ def frequency(nodes, velocity):
     return float(1.0 / np.mean(1.0 / np.abs(orbit)))
 
 
-def run_frequency(run_dir):
+def run_frequency(run_dir, t_start=0.0):
     """The frequency of a one-capsule run from its last snapshot (NaN where the run has
-    no snapshot with velocities)."""
+    no snapshot with velocities at or after t_start: the steady state's window)."""
     try:
         snap = last_snapshot(run_dir)
     except FileNotFoundError:
         return float("nan")
-    if "velocity" not in snap:
+    if "velocity" not in snap or snap.get("time", 0.0) < t_start:
         return float("nan")
     return frequency(snap["nodes"], snap["velocity"])
 

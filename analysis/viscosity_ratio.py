@@ -9,7 +9,8 @@ the standard error of its time average over [t_start, last sample]; how the run 
 `t_stop`), the GMRES iterations per solve of its last invocation (summary.json; none
 at lambda 1, where nothing is solved), and the tank-treading frequency over gammadot from
 the run's last snapshot (analysis.tank_treading; one instant of the steady state, so no
-standard error; NaN where the membrane does not tank-tread there).
+standard error; NaN where that snapshot is before t_start or the membrane does not
+tank-tread there).
 
 The dense part (viscosity_ratio.dense, --dense): the grid's suspension at the Table 1
 point's Ca (M capsules in the sheared periodic box) at other ratios, one row per (phi,
@@ -90,7 +91,7 @@ def averages(entry, t_start):
 def run_values(entry, t_start):
     """One row of the dilute table: averages() and the tank-treading frequency."""
     return averages(entry, t_start) | {
-        "tank_treading": tank_treading.run_frequency(entry["folder"])}
+        "tank_treading": tank_treading.run_frequency(entry["folder"], t_start)}
 
 
 def study_table(runs, t_start):
@@ -143,7 +144,8 @@ def markdown(table):
              "solve of the run's last invocation. Tank-treading frequency: 2 pi over the "
              "period of a membrane point's orbit near the shear plane, from the last "
              "snapshot's node velocities (analysis/tank_treading.py; a rigid sphere's is "
-             "1/2); nan where the membrane does not turn all the way round."]
+             "1/2); nan where the run has no snapshot in the averaging window or the "
+             "membrane does not turn all the way round."]
     return "\n".join([markdown_table(shown, formats, headers, errors=errors), ""] + notes)
 
 

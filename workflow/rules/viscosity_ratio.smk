@@ -15,7 +15,8 @@
 # the block's further options, results/viscosity_ratio/ca<Ca>_phi<phi>_..._lambda<r>; lambda
 # 1 is the grid's own run. A dense run at lambda 5 costs about 27 times lambda 1's
 # (docs/method.md), so they are long: segments of about an hour (run_segment), each
-# archived. With on_page, the results page shows its table and figure too.
+# archived. With its own on_page (dense.on_page, set once its runs are archived), the
+# results page shows its table and figure too.
 # Output: results/viscosity_ratio/dense.csv (and .md), results/figures/viscosity_ratio_dense.png.
 import json
 
@@ -25,7 +26,8 @@ VISCOSITY_RATIO_PAGE = (["results/viscosity_ratio/table.csv",
                          "results/figures/viscosity_ratio.png"]
                         + (["results/viscosity_ratio/dense.csv",
                             "results/figures/viscosity_ratio_dense.png"]
-                           if VISCOSITY_RATIO_DENSE else [])
+                           if VISCOSITY_RATIO_DENSE and VISCOSITY_RATIO_DENSE.get("on_page")
+                           else [])
                         if VISCOSITY_RATIO and VISCOSITY_RATIO.get("on_page") else [])
 
 
