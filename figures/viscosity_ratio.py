@@ -36,28 +36,37 @@ def stopped_text(rows, by="ca"):
     return "Not drawn, stopped before their end: " + "; ".join(items) + "."
 
 
+def draw_ratios(table, x, xlabel, panels, no_error=()):
+    """One panel per (quantity, label) of `panels` against column x, one line per
+    lambda, of the runs that reached their end (with error bars but for `no_error`).
+    Returns the figure and the rows drawn."""
+    finished = table[table["ended"] == "t_end"]
+    ratios = sorted(set(table["lambda"]))
+    colors = common.colors(ratios)
+    fig, axes = plt.subplots(1, len(panels), figsize=(10, 2.6))
+    plotted = []
+    for i, ratio in enumerate(ratios):
+        rows = finished[finished["lambda"] == ratio].sort_values(x)
+        if rows.empty:
+            continue
+        for ax, (q, _) in zip(axes, panels):
+            error = None if q in no_error else rows[SE.get(q, f"{q}_se")]
+            common.points(ax, rows[x], rows[q], yerr=error,
+                          fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
+                          label=series_label(ratio))
+        plotted.append(rows)
+    for ax, (_, label) in zip(axes, panels):
+        ax.set(xlabel=xlabel, ylabel=label)
+    if axes[0].get_legend_handles_labels()[0]:
+        axes[-1].legend(fontsize=7)
+    return fig, plotted
+
+
 def main():
     out, table = common.parse_table_args(__doc__.splitlines()[0])
     table["ended"] = table["ended"].fillna("t_end")
     finished = table[table["ended"] == "t_end"]
-    ratios = sorted(set(table["lambda"]))
-    colors = common.colors(ratios)
-    fig, axes = plt.subplots(1, len(PANELS), figsize=(10, 2.6))
-    plotted = []
-    for i, ratio in enumerate(ratios):
-        rows = finished[finished["lambda"] == ratio].sort_values("ca")
-        if rows.empty:
-            continue
-        for ax, (q, _) in zip(axes, PANELS):
-            error = None if q in NO_ERROR else rows[SE.get(q, f"{q}_se")]
-            common.points(ax, rows["ca"], rows[q], yerr=error,
-                          fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
-                          label=series_label(ratio))
-        plotted.append(rows)
-    for ax, (_, label) in zip(axes, PANELS):
-        ax.set(xlabel="Ca", ylabel=label)
-    if axes[0].get_legend_handles_labels()[0]:
-        axes[-1].legend(fontsize=7)
+    fig, plotted = draw_ratios(table, "ca", "Ca", PANELS, NO_ERROR)
     fig.tight_layout()
     caption = ("One capsule in unbounded shear with interior viscosity lambda times the "
                "suspending fluid's (docs/workflow.md, the viscosity-ratio study); the paper "

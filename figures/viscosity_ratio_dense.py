@@ -9,8 +9,7 @@ Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
 """
 
 import common
-from common import plt
-from viscosity_ratio import MARKERS, series_label, stopped_text
+from viscosity_ratio import draw_ratios, stopped_text
 
 from analysis.viscosity_ratio import SE
 
@@ -22,23 +21,7 @@ def main():
     out, table = common.parse_table_args(__doc__.splitlines()[0])
     table["ended"] = table["ended"].fillna("t_end")
     finished = table[table["ended"] == "t_end"]
-    ratios = sorted(set(table["lambda"]))
-    colors = common.colors(ratios)
-    fig, axes = plt.subplots(1, len(PANELS), figsize=(10, 2.6))
-    plotted = []
-    for i, ratio in enumerate(ratios):
-        rows = finished[finished["lambda"] == ratio].sort_values("phi")
-        if rows.empty:
-            continue
-        for ax, (q, _) in zip(axes, PANELS):
-            common.points(ax, rows["phi"], rows[q], yerr=rows[SE.get(q, f"{q}_se")],
-                          fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
-                          label=series_label(ratio))
-        plotted.append(rows)
-    for ax, (_, label) in zip(axes, PANELS):
-        ax.set(xlabel=r"$\phi$", ylabel=label)
-    if axes[0].get_legend_handles_labels()[0]:
-        axes[-1].legend(fontsize=7)
+    fig, plotted = draw_ratios(table, "phi", r"$\phi$", PANELS)
     fig.tight_layout()
     caption = ("The suspension of the Table 1 point's Ca in the sheared periodic box with "
                "interior viscosity lambda times the suspending fluid's (docs/workflow.md, "
