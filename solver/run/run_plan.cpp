@@ -44,10 +44,17 @@ long every(double interval, double unit) {
   return interval > 0 ? std::max(1L, std::lround(interval / unit)) : 0;
 }
 
+// Checkpoints and snapshots are written at samples only (run_outputs.cpp), so with a
+// fixed step they come every so many samples: counted in steps on their own (the nearest
+// count to their interval), a count that is not a multiple of the samples' would meet a
+// sample only at the counts' least common multiple (a checkpoint every 11 strains, no
+// snapshot after the first, at dt 0.0045).
 OutputPlan output_plan(const OutputOptions& out, const TimePlan& t) {
   const double unit = t.fixed() ? t.dt : out.sample_interval;
-  return {every(out.sample_interval, unit), every(out.checkpoint_interval, unit),
-          every(out.snapshot_interval, unit)};
+  const long sample = every(out.sample_interval, unit); // > 0: sample_interval > 0
+  const double per_sample = double(sample) * unit;
+  return {sample, sample * every(out.checkpoint_interval, per_sample),
+          sample * every(out.snapshot_interval, per_sample)};
 }
 
 // The box for phi > 0 (docs/conventions.md); none (L = 0) in the dilute limit.

@@ -25,7 +25,8 @@ struct TimePlan {
 };
 
 // Outputs every so many steps of a fixed step, or samples of an adaptive one (whose
-// steps land on every sample time); snapshot_every 0: none.
+// steps land on every sample time); checkpoint_every and snapshot_every are whole
+// multiples of sample_every (they are written at samples); snapshot_every 0: none.
 struct OutputPlan {
   long sample_every = 0, checkpoint_every = 0, snapshot_every = 0;
 };

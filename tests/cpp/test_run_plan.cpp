@@ -83,7 +83,21 @@ TEST_CASE(
   CHECK(heun.time.dt == automatic_time_step(0.2, h, 1.0));
   CHECK(heun.time.min_dt == 1e-6 * heun.time.dt);
   CHECK(heun.output.sample_every == std::lround(0.05 / heun.time.dt));
-  CHECK(heun.output.snapshot_every == std::lround(2.0 / heun.time.dt));
+  // Checkpoints and snapshots fall on samples: whole numbers of them, the nearest to
+  // their intervals (1 and 2 strains).
+  const long sample = heun.output.sample_every;
+  CHECK(heun.output.checkpoint_every ==
+        sample * std::lround(1.0 / (sample * heun.time.dt)));
+  CHECK(heun.output.snapshot_every ==
+        sample * std::lround(2.0 / (sample * heun.time.dt)));
+
+  // A step whose own counts are not multiples of the samples' (11 steps a sample; 222
+  // and 444 a checkpoint and a snapshot on their own) still writes every strain or two:
+  // 220 and 440 steps (0.99 and 1.98 strains), not once in 2442 and 4884 steps.
+  const RunPlan odd = plan_of({"mesh_level=2", "dt=0.0045"});
+  CHECK(odd.output.sample_every == 11);
+  CHECK(odd.output.checkpoint_every == 220);
+  CHECK(odd.output.snapshot_every == 440);
 
   const RunPlan rkc = plan_of({"mesh_level=2", "time.scheme=rkc", "time.stages=3"});
   CHECK(rkc.time.stages == 3);
