@@ -502,7 +502,8 @@ def plan(specs, archive_root, options_of, segment_ends, workdir="."):
     run writes nothing). options_of(spec): the run's resolved options (asked only for a
     run that has a record or a folder); segment_ends(spec): the pause times of its
     segments. Returns {"restore": {folder: record_dir}, "continue": {folder:
-    (record_dir, k)} (restored to continue after segment k), "stale": [...],
+    (record_dir, k)} (restored to continue after segment k; 0: from a state before the
+    first pause), "stale": [...],
     "changed": [...], "ahead": [...] (results/ reaches further than the record: the
     run's next job records it)}. Raises ArchiveError for a damaged record, a run folder
     that holds another run, or a folder of the archive that is no record."""
@@ -541,8 +542,11 @@ def plan(specs, archive_root, options_of, segment_ends, workdir="."):
                                                      local[1] < record["state_time"])):
             ends = segment_ends(spec)
             done = [k for k, t in enumerate(ends[:-1], 1) if t <= record["state_time"]]
-            if done:
-                out["continue"][spec.folder] = (record_dir, done[-1])
+            # A state before the first pause (a finished run of one segment whose t_end
+            # was raised, a run stopped within its first segment): continued from there,
+            # "after segment 0", rather than computed again from the start.
+            if done or record["state_time"] > 0:
+                out["continue"][spec.folder] = (record_dir, done[-1] if done else 0)
         elif local is not None and (local[0] or local[1] > record["t_reached"]) \
                 and use != "full":
             out["ahead"].append(spec.folder)

@@ -309,7 +309,8 @@ def restore_job(args, specs):
     status = 0
     for spec in specs:
         record = spec.record(args.archive)
-        marker = archive.marker(spec.folder, args.segment).name if args.segment else None
+        marker = (archive.marker(spec.folder, args.segment).name
+                  if args.segment is not None else None)
         try:
             done = archive.restore_run(record, spec.folder,
                                        spec.resolved_options(args.capsim), args.pause_at,
@@ -368,7 +369,7 @@ def main(argv=None):
         status = run_job(args.capsim, spec, args.log, args.threads, args.pause_at)
     if status == 0 and args.archive:
         record_job(args, spec)
-    if status == 0 and args.segment:
+    if status == 0 and args.segment is not None:
         archive.marker(spec.folder, args.segment).write_text(
             json.dumps({"t": checkpoint_time(spec.folder)}) + "\n")
     return status

@@ -156,6 +156,32 @@ def test_a_fresh_directory_restores_every_run_and_the_same_figure_data(study):
     assert "Nothing to be done" in again.stdout + again.stderr, again.stdout[-3000:]
 
 
+def test_a_raised_t_end_continues_a_run_from_a_state_before_its_first_pause(study,
+                                                                            tmp_path):
+    """A finished record keeps the start of its last segment (0.4); with t_end raised to
+    0.7 in one segment, the run continues from that state ("after segment 0"), to the
+    same bits as the plain run up to 0.6, instead of starting again."""
+    store = tmp_path / "store"
+    shutil.copytree(study["store"], store)
+    config = {**study["config"], "archive": str(store), "segments": {"strain": 5.0},
+              "initial": {**STUDY["initial"], "t_end": 0.7}}
+    dry = snakemake(tmp_path / "work", config, FIGURE, dry=True)
+    assert "2 run(s) to restore and continue" in dry.stderr, dry.stderr[-3000:]
+    assert "restore_segment" in dry.stdout and run_jobs(dry.stdout) == {"run": 2}
+    done = snakemake(tmp_path / "work", config, FIGURE)
+    assert done.returncode == 0, done.stderr[-3000:]
+    for run in RUNS:
+        start = archive.read_record(study["store"] / "initial" / run.split("/")[-1])
+        segments = json.loads((tmp_path / "work" / run / "segments.json").read_text())
+        assert segments[-1]["t_from"] == pytest.approx(start["state_time"])
+        assert archive.read_record(store / "initial" / run.split("/")[-1])["t_reached"] >= 0.7
+        plain, longer = series(study["base"] / "plain" / run), series(tmp_path / "work" / run)
+        after = (plain["time"] > start["state_time"])
+        for name in plain:
+            np.testing.assert_array_equal(plain[name][after],
+                                          longer[name][: len(after)][after], err_msg=name)
+
+
 def test_a_record_replays_its_last_segment_to_the_last_bit(study):
     record_dir = study["store"] / "initial" / RUNS[0].split("/")[-1]
     record = archive.read_record(record_dir)

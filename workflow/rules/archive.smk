@@ -63,8 +63,10 @@ if ARCHIVE:
         log:
             "results/logs/{study}/{run}.restore.segment{k}.log",
         params:
+            # segment 0: the state before the first pause, whatever its time
             command=lambda wc: run_job(
-                wc, 1, segment_ends(run_of(wc.study, wc.run))[int(wc.k) - 1], restore=True),
+                wc, 1, segment_ends(run_of(wc.study, wc.run))[int(wc.k) - 1]
+                if int(wc.k) > 0 else 0.0, restore=True),
         localrule: True
         shell:
             "{params.command}"

@@ -258,7 +258,9 @@ def report_remaining(runs, plan):
             left += 1
             start = state[1] if state else 0.0
             if spec.folder in plan["continue"]:
-                start = max(start, segment_ends(spec)[plan["continue"][spec.folder][1] - 1])
+                record, k = plan["continue"][spec.folder]
+                start = max(start, segment_ends(spec)[k - 1] if k else
+                            archive.read_record(record)["state_time"])
             seconds += spec.seconds_per_strain() * (spec.t_end - start)
     from_archive = f" ({restored} restored from the archive)" if restored else ""
     print(f"main studies: {left} of {len(runs)} runs to compute{from_archive}, about "

@@ -47,10 +47,14 @@ def run_resource(wc, what):
 
 
 def previous_segment(wc, last=False):
-    """The marker of the segment before this one ([] for the first)."""
+    """The marker of the segment before this one; for the first, that of the restore of a
+    state before its pause where the archive continues the run from one (segment 0,
+    archive.smk), else []."""
     spec = run_of(wc.study, wc.run)
     k = len(segment_ends(spec)) if last else int(wc.k)
-    return [str(archive.marker(spec.folder, k - 1))] if k > 1 else []
+    if k == 1 and archive_plan()["continue"].get(spec.folder, (None, None))[1] != 0:
+        return []
+    return [str(archive.marker(spec.folder, k - 1))]
 
 
 rule run_segment:
