@@ -155,13 +155,12 @@ def code_from_parameters(parameters):
     return spell(tokens)
 
 
-def point_membranes(entries, cas, phis, key):
-    """{(Ca, phi): canonical code} of a study's list of points that carry another membrane
-    (config grid.membranes: [{ca, phi, membrane}, ...]). Each point must be one of the
-    study's (Ca in cas, phi in phis) and listed once; a bad code or point raises
-    ValueError naming `key`."""
-    def match(value, values):  # the study's own value, as its keys hold it
-        return next((float(v) for v in values if math.isclose(value, float(v))), None)
+def study_points(entries, cas, phis, key, value):
+    """{(Ca, phi): value(entry)} of a list of a study's points ([{ca, phi, ...}, ...]).
+    Each point must be one of the study's (Ca in cas, phi in phis) and listed once; a bad
+    point raises ValueError naming `key`, as `value` does for a bad entry."""
+    def match(v, values):  # the study's own value, as its keys hold it
+        return next((float(u) for u in values if math.isclose(v, float(u))), None)
 
     out = {}
     for entry in entries:
@@ -172,6 +171,13 @@ def point_membranes(entries, cas, phis, key):
                              f"(Ca in {list(cas)}, phi in {list(phis)})")
         if point in out:
             raise ValueError(f"{key}: Ca {point[0]:g}, phi {point[1]:g} is listed twice")
-        out[point] = canonical(entry["membrane"], key)
+        out[point] = value(entry)
     return out
+
+
+def point_membranes(entries, cas, phis, key):
+    """{(Ca, phi): canonical code} of a study's list of points that carry another membrane
+    (config grid.membranes: [{ca, phi, membrane}, ...]), checked as study_points() does;
+    a bad code raises ValueError naming `key`."""
+    return study_points(entries, cas, phis, key, lambda e: canonical(e["membrane"], key))
 

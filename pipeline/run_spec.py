@@ -348,10 +348,32 @@ class RunSpec:
         return [round(k * strain, 9) for k in range(1, count)] + [self.t_end]
 
 
+def point_t_ends(block, key):
+    """{(Ca, phi): t_end} of the points of a study block (the grid's) that run longer
+    than its t_end (`t_end_at`: [{ca, phi, t_end}, ...], for the precision a point's
+    averages need: t_end is not in a run's key, so such a run continues its record).
+    A point not of the study, listed twice or shorter than t_end raises ValueError
+    naming `key`."""
+    def longer(entry):
+        t_end = float(entry["t_end"])
+        if t_end < float(block["t_end"]):
+            raise ValueError(f"{key}: Ca {float(entry['ca']):g}, phi {float(entry['phi']):g}"
+                             f": t_end {t_end:g} is below the study's {block['t_end']:g} "
+                             "(a point runs longer, never shorter)")
+        return t_end
+
+    if not block.get("t_end_at"):
+        return {}
+    return membrane_codes.study_points(block["t_end_at"], block["ca"], block["phi"], key,
+                                       longer)
+
+
 def suspension(study, keys, block, averages_start, run_options):
     """The RunSpec of a suspension run of `study` with keys (ca, phi, M, level, seed[,
-    membrane]) from its configuration block (t_end, snapshot_interval)."""
-    t_end = block["t_end"]
+    membrane]) from its configuration block (t_end, or the point's own of t_end_at;
+    snapshot_interval)."""
+    t_end = point_t_ends(block, f"{study}.t_end_at").get(
+        (float(keys["ca"]), float(keys["phi"])), block["t_end"])
     return RunSpec(study=study, ca=keys["ca"], phi=keys["phi"], M=keys["M"],
                    level=keys["level"], seed=keys["seed"],
                    membrane=keys.get("membrane", membrane_codes.PAPER), t_end=t_end,

@@ -112,3 +112,26 @@ def test_a_spec_finds_its_record_and_has_its_key(k):
     assert (record["study"], record["name"]) == (spec.study, spec.name)
     assert spec.key(CAPSIM) == record["key"]
     assert archive.usable(record, spec.resolved_options(CAPSIM)) == "full"
+
+
+def test_a_grid_point_of_t_end_at_runs_longer_in_every_study_that_runs_it():
+    grid = {"ca": [0.1, 0.2], "phi": [0.1, 0.4], "t_end": 30,
+            "t_end_at": [{"ca": 0.1, "phi": 0.4, "t_end": 70}]}
+    keys = {"ca": 0.1, "phi": 0.4, "M": 27, "level": 3, "seed": 1}
+    longer = run_spec.suspension("grid", keys, grid, 10, {})
+    assert longer.t_end == 70 and longer.t_avg_start == 10
+    # The same run (name, key) as at the study's t_end: it continues that record.
+    plain = run_spec.suspension("grid", keys, {**grid, "t_end_at": []}, 10, {})
+    assert plain.t_end == 30 and plain.name == longer.name
+    assert dataclasses.replace(plain, t_end=70) == longer
+    # eblimit's runs of the point take the grid block, so its t_end too.
+    assert run_spec.suspension("eblimit", {**keys, "membrane": "eb0.0125"}, grid, 10,
+                               {}).t_end == 70
+    assert run_spec.suspension("grid", {**keys, "ca": 0.2}, grid, 10, {}).t_end == 30
+    assert run_spec.point_t_ends(grid, "grid.t_end_at") == {(0.1, 0.4): 70.0}
+    for bad, says in [({"ca": 0.3, "phi": 0.4, "t_end": 70}, "not a point of the study"),
+                      ({"ca": 0.1, "phi": 0.4, "t_end": 20}, "below the study's 30"),
+                      ({"ca": 0.2, "phi": 0.1, "t_end": 50}, "listed twice")]:
+        entries = [bad] + ([bad] if says == "listed twice" else [])
+        with pytest.raises(ValueError, match=f"grid.t_end_at: .*{says}"):
+            run_spec.point_t_ends({**grid, "t_end_at": entries}, "grid.t_end_at")

@@ -11,6 +11,13 @@ GRID_MEMBRANES = membrane_codes.point_membranes(
     GRID.get("membranes", []), GRID["ca"], GRID["phi"], "grid.membranes")
 
 
+# grid.t_end_at: the points that run longer than grid.t_end ({ca, phi, t_end}: for the
+# precision of the O(phi^3) shares, docs/workflow.md); pipeline.run_spec.suspension gives
+# each its own t_end (in every study that runs it: eblimit's runs of the point too);
+# checked here, before any run.
+run_spec.point_t_ends(GRID, "grid.t_end_at")
+
+
 def grid_keys():
     return [dict(ca=ca, phi=phi, M=GRID["capsules"], level=GRID["mesh_level"], seed=seed,
                  membrane=GRID_MEMBRANES.get((float(ca), float(phi)), membrane_codes.PAPER))
