@@ -830,10 +830,17 @@ def paper_text(claim):
     if test in SERIES_TESTS:
         return {"rises": "rises", "falls": "falls", "flat": "does not vary",
                 "linear": "linear", "nonlinear": "nonlinear"}[test]
-    text = f"{claim['value']:g}"
+    # Points may state their own values and errors (Table 1's cases): the claim's, an
+    # anchor's shared by all, would name another number of the paper.
+    points = claim.get("points") or [{}]
+    values = sorted({p.get("value", claim.get("value")) for p in points})
+    errors = {p.get("error", claim.get("error")) for p in points}
+    text = (f"{values[0]:g}" if len(values) == 1 else
+            f"{len(points)} points, {values[0]:g} to {values[-1]:g}")
     if test == "approx":
         return "~ " + text
-    return text + (f" +- {claim['error']:.2g}" if claim.get("error") else "")
+    error = errors.pop() if len(errors) == 1 else None
+    return text + (f" +- {error:.2g}" if error else "")
 
 
 def _fmt(value, se):

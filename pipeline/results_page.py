@@ -33,6 +33,9 @@ REDUCE = 2  # the committed PNGs keep 1 / REDUCE of the pixels in each direction
 # (column title, average, its standard error) of the eb -> 0 table on the page
 SHOWN_LIMITS = [("<D>", "D", "D_se"), ("theta_D", "theta_D_deg", "theta_D_se_deg"),
                 ("mu_sp", "mu_sp", "mu_sp_se"), ("N1", "N1", "N1_se"), ("N2", "N2", "N2_se")]
+# The claims of Table 1's N_E 1280 row (the paper's M 100 over [10, 100]), shown beside
+# the reference study's runs: {column: claim id}
+TABLE1_1280 = {"D": "table1-D-1280", "mu_sp": "table1-mu-1280"}
 CLASS_NAMES = {"number": "numbers", "trend": "trends", "other-paper": "other papers",
                "analytic": "analytic"}
 
@@ -79,7 +82,7 @@ def windows(results):
     """The averaging windows of the runs of each study table (the grid's dilute runs
     apart), one line each, naming the runs that stopped early."""
     lines = []
-    for study in ("grid", "mesh", "boxsize"):  # figure 11 states the initial runs' own
+    for study in ("grid", "mesh", "boxsize", "reference"):  # figure 11 states the initial runs' own
         path = results / study / "table.csv"
         if not path.exists():
             continue
@@ -128,6 +131,38 @@ def paper_membrane_lines(results):
             "correction from the grid's run with bending; a point whose run at a smaller "
             "modulus stopped within the first half of the window has no limit and keeps "
             "its run with bending, left out of the claims.", "", markdown_table(cells), ""]
+
+
+def reference_lines(results, numbers):
+    """Table 1's point at the paper's scale (results/reference/table.csv, where the
+    configuration puts the reference study on the page): each run's averages +- their
+    standard errors beside the paper's N_E 1280 values (from the claims file `numbers`);
+    none where the table is not there."""
+    path = results / "reference" / "table.csv"
+    if not path.exists():
+        return []
+    table = pd.read_csv(path)
+    paper = {c["id"]: c.get("value") for c in paper_comparison.load_numbers(numbers)}
+
+    def cell(row, q, se):
+        return f"{row[q]:.4g} +- {row[se]:.2g}"
+
+    cells = pd.DataFrame([{"seed": f"{int(r['seed'])}",
+                           "window": f"[{r['t_start']:g}, {r['t_end']:.3g}]"
+                           + ("" if r.get("ended", "t_end") == "t_end" else
+                              f" ({r['ended']})"),
+                           **{name: cell(r, q, se) for name, q, se in SHOWN_LIMITS}}
+                          for r in table.to_dict("records")]
+                         + [{"seed": "paper, N_E 1280", "window": "[10, 100]",
+                             **{name: "" for name, _, _ in SHOWN_LIMITS},
+                             "<D>": f"{paper[TABLE1_1280['D']]:g}",
+                             "mu_sp": f"{paper[TABLE1_1280['mu_sp']]:g}"}])
+    sizes = sorted({int(v) for v in table["capsules"]})
+    return ["## Table 1's point at the paper's scale", "",
+            f"Ca 0.2, phi 0.3 at the paper's M = {'/'.join(map(str, sizes))} and N_E "
+            f"{20 * 4 ** int(table['mesh_level'].iloc[0])} to its t_e (`snakemake "
+            "reference`), one run per initial position (seed); the claims above compare "
+            "their mean with Table 1's N_E 1280 row.", "", markdown_table(cells), ""]
 
 
 def viscosity_ratio_lines(results, figure_dir):
@@ -243,7 +278,7 @@ def page(results, label, figures, figure_dir, store=None, date=None, numbers=Non
               "(`docs/suspensions.md`, `docs/dilute_limit.md`).", "",
               (results / "figures" / "paper_comparison.md").read_text().strip(), "",
               "## Table 1", "", (results / "figures" / "table1.md").read_text().strip(),
-              ""] + paper_membrane_lines(results) + [
+              ""] + reference_lines(results, numbers) + paper_membrane_lines(results) + [
               "## Averaging windows", ""] + windows(results) + [
               "", "## Figures", "",
               f"Reduced to 1/{REDUCE} of their pixels in each direction; full size in "

@@ -284,3 +284,12 @@ def test_main_writes_markdown_and_both_tables(results, tmp_path):
     assert list(data.columns) == ["id", "datum", "value", "se", "datum_verdict",
                                   "claim_verdict"]
     assert out.with_suffix(".md").read_text().startswith("| claim |")
+
+
+def test_the_paper_s_side_of_a_claim_of_points_is_their_own_values():
+    # Table 1's cases inherit the N_E 320 value from their anchor; each point states its own.
+    claims = {c["id"]: c for c in pc.load_numbers(ROOT / "config" / "paper_numbers.yaml")}
+    assert pc.paper_text(claims["table1-D-5120-cases"]) == \
+        "3 points, 0.37927 to 0.38009 +- 0.00034"
+    assert pc.paper_text(claims["table1-spread"]) == "2 points, 0.00089 to 0.00167"
+    assert pc.paper_text(claims["table1-D-1280"]) == "0.37837 +- 0.00034"

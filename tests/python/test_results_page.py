@@ -92,3 +92,23 @@ def test_the_points_by_the_paper_s_membrane_show_limit_error_and_correction(tmp_
     assert "| 0.5 | 0.1 | 0.0125 0.025 | t_end t_end | 0.5 +- 0.004 (+7.8 %) |" in text
     assert "eb 0.0125 stopped at 11.1" in text and "none (eb0.025: 0.4638)" in text
     assert results_page.paper_membrane_lines(tmp_path / "nothing") == []
+
+
+def test_the_reference_runs_stand_beside_table_1_s_n_e_1280_row(tmp_path):
+    (tmp_path / "reference").mkdir()
+    row = {"ca": 0.2, "phi": 0.3, "capsules": 100, "mesh_level": 3, "seed": 1,
+           "t_start": 10.0, "t_end": 100.04, "ended": "t_end"}
+    for name, q, se in results_page.SHOWN_LIMITS:
+        row.update({q: 0.84, se: 0.0038})
+    stopped = {**row, "seed": 2, "t_end": 20.81, "ended": "contact"}
+    pd.DataFrame([row, stopped]).to_csv(tmp_path / "reference" / "table.csv", index=False)
+    numbers = ROOT / "config" / "paper_numbers.yaml"
+    text = "\n".join(results_page.reference_lines(tmp_path, numbers))
+    assert "M = 100 and N_E 1280" in text
+    assert "| 1 | [10, 100] | 0.84 +- 0.0038 |" in text
+    assert "| 2 | [10, 20.8] (contact) |" in text
+    # The paper's values come from the claims file, not a copy.
+    claims = {c["id"]: c.get("value") for c in pc.load_numbers(numbers)}
+    assert f"| paper, N_E 1280 | [10, 100] | {claims['table1-D-1280']:g} |" in text
+    assert f"| {claims['table1-mu-1280']:g} |" in text
+    assert results_page.reference_lines(tmp_path / "nothing", numbers) == []

@@ -97,7 +97,7 @@ COMPARISON_INPUTS = ["results/dilute/table.csv", "results/grid/table.csv",
                      "results/grid/fits.csv", "results/mesh/table.csv"] + [
     f"results/figures/{name}.csv"
     for name in ("table1", "fig01", "fig03", "fig05", "fig06", "fig08", "fig09", "fig10",
-                 "fig11", "fig12")]
+                 "fig11", "fig12")] + REFERENCE_PAGE
 COMPARISON_OUTPUTS = ["results/figures/paper_comparison.md",
                       "results/figures/paper_comparison.csv",
                       "results/figures/paper_comparison_points.csv"]

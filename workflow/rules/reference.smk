@@ -4,8 +4,12 @@
 # time scheme and precisions that meet the workflow's error rule at less cost). Optional:
 # a configuration without the block has no such runs. Run by its own target,
 # `snakemake reference`, not by `all`: its runs take hours on 2 cores and are computed
-# and archived first; results/reference/table.csv holds their averages.
+# and archived first; results/reference/table.csv holds their averages. `on_page: true`
+# (set it once its runs are in the archive) puts them in the comparison with the paper
+# and on the results page, whose rules then need them (restored from the archive).
 REFERENCE = config.get("reference")
+REFERENCE_PAGE = ["results/reference/table.csv"] if REFERENCE and REFERENCE.get("on_page") \
+    else []
 
 
 def reference_keys():
