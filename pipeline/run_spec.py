@@ -54,7 +54,8 @@ FORMER_DEFAULTS = {
 }
 
 # The options capsim gained after runs had been recorded, with the value that every run
-# before them took: a record whose run.yaml lacks one is read with it.
+# before them took: a record whose run.yaml lacks one is read with it (and capsim resumes
+# such a run's checkpoint with it: kFormerValues in solver/config/run_options.cpp).
 ADDED_OPTIONS = {
     "ewald.precision": "double",
     "ewald.real_space_precision": "double",

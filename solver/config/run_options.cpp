@@ -541,6 +541,41 @@ RunOptions parse_run_options(const std::string& yaml_text,
   return o;
 }
 
+namespace {
+
+// The keys added after runs were first checkpointed whose value then differs from today's
+// default, with the value those runs took (pipeline/run_spec.py ADDED_OPTIONS keys the
+// archive's records by the same values). The other added keys (lambda, membrane.law,
+// time.stages, gmres.tolerance) default to what runs took before them.
+const std::vector<std::pair<std::string, std::string>> kFormerValues = {
+    {"ewald.precision", "double"},
+    {"ewald.real_space_precision", "double"},
+};
+
+} // namespace
+
+RunOptions parse_checkpoint_options(const std::string& yaml_text,
+                                    const std::vector<std::string>& overrides,
+                                    const std::string& source) {
+  std::vector<std::pair<std::string, std::string>> stored;
+  try {
+    YAML::Node root = YAML::Load(yaml_text);
+    if (root && root.IsMap())
+      flatten(root, "", stored);
+  } catch (const YAML::Exception&) {
+    // parse_run_options below names the fault
+  }
+  std::vector<std::string> sets;
+  for (const auto& [key, value] : kFormerValues) {
+    const bool present = std::any_of(stored.begin(), stored.end(),
+                                     [&](const auto& kv) { return kv.first == key; });
+    if (!present)
+      sets.push_back(key + "=" + value);
+  }
+  sets.insert(sets.end(), overrides.begin(), overrides.end());
+  return parse_run_options(yaml_text, sets, source);
+}
+
 RunOptions load_run_options(const std::string& yaml_path,
                             const std::vector<std::string>& overrides) {
   std::string text;

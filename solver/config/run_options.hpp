@@ -93,10 +93,16 @@ void require_in(const std::string& name, double v, NumberRange r, bool integer =
 // quadrature.far_ratio), then applies `key=value` overrides, then validates everything.
 RunOptions load_run_options(const std::string& yaml_path,
                             const std::vector<std::string>& overrides);
-// The same from YAML text (used for the options stored in a checkpoint).
+// The same from YAML text.
 RunOptions parse_run_options(const std::string& yaml_text,
                              const std::vector<std::string>& overrides,
                              const std::string& source = "run file");
+// The options stored in a checkpoint (all its build knew), then the overrides: a key
+// added later takes the value every run took before it existed (kFormerValues in
+// run_options.cpp), not today's default, so a resumed run goes on as it began.
+RunOptions parse_checkpoint_options(const std::string& yaml_text,
+                                    const std::vector<std::string>& overrides,
+                                    const std::string& source);
 
 // Every key with its resolved value, as nested YAML (run.yaml, checkpoints).
 std::string to_yaml(const RunOptions& o);

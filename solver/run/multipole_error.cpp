@@ -27,7 +27,7 @@ std::vector<MultipoleErrorRow> multipole_error(const std::string& run_dir,
                                                const std::vector<int>& patch_counts,
                                                const std::vector<double>& distances) {
   Checkpoint c = read_checkpoint(run_dir + "/checkpoint.h5");
-  RunOptions o = parse_run_options(c.options_yaml, {}, "checkpoint in " + run_dir);
+  RunOptions o = parse_checkpoint_options(c.options_yaml, {}, "checkpoint in " + run_dir);
   Icosphere mesh = make_icosphere(o.mesh_level);
   if (c.nodes_per_capsule != mesh.topology.num_nodes)
     throw ConfigError("checkpoint in " + run_dir + " does not match its mesh_level");

@@ -30,7 +30,7 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
           "output.* "
           "can. Start a new run for other values");
   }
-  return parse_run_options(c.options_yaml, overrides, "checkpoint in " + dir);
+  return parse_checkpoint_options(c.options_yaml, overrides, "checkpoint in " + dir);
 }
 
 // The run after its set-up, to summary.json; a numerical stop records how it ended.

@@ -95,6 +95,23 @@ TEST_CASE("config: duplicated keys, empty maps and odd text give one short line"
   CHECK_THAT(number_problem("99999999999", true), Catch::Contains("2147483647"));
 }
 
+TEST_CASE("config: a checkpoint without a key added later resumes with the value runs "
+          "took before it, not today's default",
+          "[config]") {
+  // Written by a build before the precisions were options: its runs were double.
+  const RunOptions old =
+      parse_checkpoint_options("ca: 0.2\nphi: 0.3\n", {"t_end=30"}, "c");
+  CHECK(old.ewald.precision == Precision::double_precision);
+  CHECK(old.ewald.real_space_precision == Precision::double_precision);
+  CHECK(old.t_end == 30);
+  CHECK(parse_run_options("ca: 0.2\n", {}).ewald.real_space_precision ==
+        Precision::automatic); // today's default, for a new run
+  // A checkpoint that stores the key keeps its value.
+  const RunOptions stored =
+      parse_checkpoint_options(to_yaml(parse_run_options("ca: 0.2\n", {})), {}, "c");
+  CHECK(stored.ewald.real_space_precision == Precision::automatic);
+}
+
 TEST_CASE("config: the resolved YAML reads back to the same options", "[config]") {
   RunOptions o = parse_run_options("", {"ca=0.35", "quadrature.near_ratio=3", "dt=0.002",
                                         "output.snapshot_interval=0", "threads=1"});
