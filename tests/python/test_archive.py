@@ -228,7 +228,7 @@ def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
     # capsules.
     main = [r for r in records if r["study"] not in ("reference", "viscosity_ratio")]
     finished = sum(r["finished"] for r in main)
-    assert len(main) == finished == 45 + 21 + 22, "archive/quantitative is incomplete"
+    assert len(main) == finished == 44 + 21 + 22, "archive/quantitative is incomplete"
     exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
     dry = subprocess.run([exe, "--snakefile", str(ROOT / "Snakefile"), "--directory",
                           str(tmp_path), "-n", "all", "check", "--configfile",
@@ -237,7 +237,7 @@ def test_the_quantitative_archive_is_sound_and_restores_its_runs(tmp_path):
     assert dry.returncode == 0, dry.stdout[-3000:] + dry.stderr[-3000:]
     assert "physics version" not in dry.stderr and "other options" not in dry.stderr
     assert run_jobs(dry.stdout).get("run", 0) == 0
-    assert "main studies: 0 of 88 runs to compute" in dry.stderr
+    assert "main studies: 0 of 87 runs to compute" in dry.stderr
     assert written_outside_snakemake(tmp_path) == [], "a dry run wrote files"
     # Complete: the figures, Table 1, the comparison with the paper and the check come
     # from the archive alone, and the check (config/expected/paper.yaml) passes.

@@ -72,16 +72,19 @@ def planned_jobs(output):
 
 # Every configuration validates against the schema and plans its jobs from scratch (no
 # archive); the counts are those each configuration's header and docs/workflow.md state
-# (runs that two studies share counted once: suspensions + dilute runs).
-@pytest.mark.parametrize("configfile, runs", [
-    ("config.yaml", 40 + 21),
-    ("quantitative.yaml", 45 + 21 + 22),  # 22: the limit eb -> 0 (eblimit.in_grid)
+# (runs that two studies share counted once: suspensions + dilute runs), and the runs of
+# the studies on the page that are not main studies (on_page: reference).
+@pytest.mark.parametrize("configfile, runs, on_page", [
+    ("config.yaml", 40 + 21, 0),
+    # 44: the mesh study's level 3 is the grid's run (both to t_e 30); 22: the limit
+    # eb -> 0 (eblimit.in_grid); 2: the reference study's seeds (reference.on_page)
+    ("quantitative.yaml", 44 + 21 + 22, 2),
 ])
-def test_configuration_plans(tmp_path, configfile, runs):
+def test_configuration_plans(tmp_path, configfile, runs, on_page):
     (tmp_path / "no_archive.yaml").write_text("archive: null\n")
     proc = snakemake(tmp_path, "all", "check", "-n", configfile=configfile,
                      extra=[str(tmp_path / "no_archive.yaml")])
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    assert planned_jobs(proc.stdout)["run"] == runs
+    assert planned_jobs(proc.stdout)["run"] == runs + on_page
     # The estimate counts the runs the plan has (the main studies' runs, each once).
     assert f"main studies: {runs} of {runs} runs to compute" in proc.stderr
