@@ -514,9 +514,11 @@ void validate(const RunOptions& o) {
 
 } // namespace
 
-RunOptions parse_run_options(const std::string& yaml_text,
-                             const std::vector<std::string>& overrides,
-                             const std::string& source) {
+namespace {
+
+// The (key, value) entries of YAML text, nested maps flattened to dotted keys.
+std::vector<std::pair<std::string, std::string>>
+yaml_entries(const std::string& yaml_text, const std::string& source) {
   std::vector<std::pair<std::string, std::string>> entries;
   try {
     YAML::Node root = YAML::Load(yaml_text);
@@ -528,6 +530,16 @@ RunOptions parse_run_options(const std::string& yaml_text,
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ": not valid YAML: " + e.what());
   }
+  return entries;
+}
+
+} // namespace
+
+RunOptions parse_run_options(const std::string& yaml_text,
+                             const std::vector<std::string>& overrides,
+                             const std::string& source) {
+  std::vector<std::pair<std::string, std::string>> entries =
+      yaml_entries(yaml_text, source);
   for (const auto& s : overrides) {
     auto eq = s.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -557,14 +569,7 @@ const std::vector<std::pair<std::string, std::string>> kFormerValues = {
 RunOptions parse_checkpoint_options(const std::string& yaml_text,
                                     const std::vector<std::string>& overrides,
                                     const std::string& source) {
-  std::vector<std::pair<std::string, std::string>> stored;
-  try {
-    YAML::Node root = YAML::Load(yaml_text);
-    if (root && root.IsMap())
-      flatten(root, "", stored);
-  } catch (const YAML::Exception&) {
-    // parse_run_options below names the fault
-  }
+  const auto stored = yaml_entries(yaml_text, source);
   std::vector<std::string> sets;
   for (const auto& [key, value] : kFormerValues) {
     const bool present = std::any_of(stored.begin(), stored.end(),
