@@ -219,9 +219,11 @@ def _context(rows):
     if "capsules" in rows and "intrinsic" in rows and (rows["intrinsic"] == 0).any():
         parts.append("M " + "/".join(str(int(v)) for v in
                                      sorted(set(rows.loc[rows["intrinsic"] == 0, "capsules"]))))
-    if "t_start" in rows and "t_end" in rows:
-        parts.append("t " + "/".join(sorted({f"{a:g}-{b:.3g}" for a, b in
-                                             zip(rows["t_start"], rows["t_end"])})))
+    spans = sorted({f"{a:g}-{b:.3g}" for a, b in zip(rows.get("t_start", []),
+                                                      rows.get("t_end", []))
+                    if pd.notna(a) and pd.notna(b)})  # a mean row (Table 1's) has none
+    if spans:
+        parts.append("t " + "/".join(spans))
     if "seed" in rows and len(rows) > 1:
         parts.append(f"{len(rows)} runs")
     if "obtained" in rows and (rows["obtained"].fillna("run") != "run").any():

@@ -293,3 +293,11 @@ def test_the_paper_s_side_of_a_claim_of_points_is_their_own_values():
         "3 points, 0.37927 to 0.38009 +- 0.00034"
     assert pc.paper_text(claims["table1-spread"]) == "2 points, 0.00089 to 0.00167"
     assert pc.paper_text(claims["table1-D-1280"]) == "0.37837 +- 0.00034"
+
+
+def test_a_row_without_a_window_names_none():
+    # Table 1's mean row has no window of its own: no "t nan-nan" in the context.
+    rows = pd.DataFrame([{"mesh_level": 4, "t_start": np.nan, "t_end": np.nan}])
+    assert pc._context(rows) == "N_E 5120"
+    rows = pd.DataFrame([{"mesh_level": 3, "t_start": 10.0, "t_end": 30.02}])
+    assert pc._context(rows) == "N_E 1280, t 10-30"
