@@ -82,7 +82,8 @@ def windows(results):
     """The averaging windows of the runs of each study table (the grid's dilute runs
     apart), one line each, naming the runs that stopped early."""
     lines = []
-    for study in ("grid", "mesh", "boxsize", "reference"):  # figure 11 states the initial runs' own
+    # (figure 11 states the initial runs' own)
+    for study in ("grid", "mesh", "boxsize", "reference"):
         path = results / study / "table.csv"
         if not path.exists():
             continue
