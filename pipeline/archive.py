@@ -502,8 +502,8 @@ def plan(specs, archive_root, options_of, segment_ends, workdir="."):
     run writes nothing). options_of(spec): the run's resolved options (asked only for a
     run that has a record or a folder); segment_ends(spec): the pause times of its
     segments. Returns {"restore": {folder: record_dir}, "continue": {folder:
-    (record_dir, k)} (restored to continue after segment k; 0: from a state before the
-    first pause), "stale": [...],
+    (record_dir, k, t)} (restored to continue after segment k from its state at t; k 0:
+    a state before the first pause), "stale": [...],
     "changed": [...], "ahead": [...] (results/ reaches further than the record: the
     run's next job records it)}. Raises ArchiveError for a damaged record, a run folder
     that holds another run, or a folder of the archive that is no record."""
@@ -546,7 +546,8 @@ def plan(specs, archive_root, options_of, segment_ends, workdir="."):
             # was raised, a run stopped within its first segment): continued from there,
             # "after segment 0", rather than computed again from the start.
             if done or record["state_time"] > 0:
-                out["continue"][spec.folder] = (record_dir, done[-1] if done else 0)
+                out["continue"][spec.folder] = (record_dir, done[-1] if done else 0,
+                                                record["state_time"])
         elif local is not None and (local[0] or local[1] > record["t_reached"]) \
                 and use != "full":
             out["ahead"].append(spec.folder)

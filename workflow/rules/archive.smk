@@ -16,7 +16,7 @@ def restore_segment_input(wc):
     archive_plan() says it does; else a path that is never there, so that the rule is
     not a candidate and the segment is computed."""
     spec = run_of(wc.study, wc.run)
-    record, last = archive_plan()["continue"].get(spec.folder, (None, None))
+    record, last, _ = archive_plan()["continue"].get(spec.folder, (None, None, None))
     if record is None or last != int(wc.k):
         return [f"(no record to restore {spec.folder} from)"]
     return [ancient(CAPSIM), ancient(os.path.join(record, "record.json"))]

@@ -258,9 +258,8 @@ def report_remaining(runs, plan):
             left += 1
             start = state[1] if state else 0.0
             if spec.folder in plan["continue"]:
-                record, k = plan["continue"][spec.folder]
-                start = max(start, segment_ends(spec)[k - 1] if k else
-                            archive.read_record(record)["state_time"])
+                _, k, t = plan["continue"][spec.folder]
+                start = max(start, segment_ends(spec)[k - 1] if k else t)
             seconds += spec.seconds_per_strain() * (spec.t_end - start)
     from_archive = f" ({restored} restored from the archive)" if restored else ""
     print(f"main studies: {left} of {len(runs)} runs to compute{from_archive}, about "

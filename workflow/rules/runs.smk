@@ -52,7 +52,7 @@ def previous_segment(wc, last=False):
     archive.smk), else []."""
     spec = run_of(wc.study, wc.run)
     k = len(segment_ends(spec)) if last else int(wc.k)
-    if k == 1 and archive_plan()["continue"].get(spec.folder, (None, None))[1] != 0:
+    if k == 1 and archive_plan()["continue"].get(spec.folder, (None, None, None))[1] != 0:
         return []
     return [str(archive.marker(spec.folder, k - 1))]
 
