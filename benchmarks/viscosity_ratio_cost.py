@@ -4,7 +4,7 @@ machine, and the error of the solve's tolerance against a tight one.
 
     python3 benchmarks/viscosity_ratio_cost.py [--levels 2 3] [--lambdas 1 0.2 5 10]
         [--ca 0.2] [--strain 1] [--capsules 1 --phi 0] [--threads 2]
-        [--gmres-tolerances T ...] [--reference-tolerance 1e-10]
+        [--gmres-tolerances T ...] [--gmres-guesses G ...] [--reference-tolerance 1e-10]
         [--out benchmarks/records/F.json]
 
 Each case runs `capsim run --profile` from the same start over the same strain, and
@@ -12,8 +12,9 @@ reports the time loop's seconds per capsule-strain (set-up excluded), the steps 
 evaluations, the second-kind solves (an output's solve serves the next step's first
 evaluation), the GMRES iterations per solve and the largest residual (summary.json),
 and the ratio of each cost to lambda = 1 at the same mesh. Each lambda != 1 runs at
-every gmres.tolerance T (capsim's default unless given; that case is marked
-default_tolerance, the one the cost model reads) and once at the reference tolerance;
+every gmres.tolerance T and gmres.guess G (capsim's defaults unless given; those cases
+are marked default_tolerance and default_guess: the cost model reads the case with both)
+and once at the reference tolerance;
 the record gives each cost and what T changes against the reference: the largest
 node displacement at the end and the largest differences of D and of the stresslet
 over all samples (the mesh's own error in D is about 1e-2 at level 2, 5e-3 at level 3).
@@ -39,20 +40,23 @@ from pipeline.command_line import run_command  # noqa: E402
 
 
 def run_case(capsim, level, lam, ca, strain, threads, scratch, capsules=1, phi=0.0,
-             tolerance=None):
-    out = Path(scratch) / f"l{level}_lambda{lam:g}_tol{tolerance}"
+             tolerance=None, guess=None):
+    out = Path(scratch) / f"l{level}_lambda{lam:g}_tol{tolerance}_guess{guess}"
     profile = out.parent / (out.name + ".profile.json")
     settings = {"ca": ca, "mesh_level": level, "lambda": lam, "t_end": strain,
                 "t_avg_start": 0, "threads": threads, "capsules": capsules, "phi": phi,
                 "output.checkpoint_interval": strain, "output.snapshot_interval": 0}
     if tolerance is not None:
         settings["gmres.tolerance"] = tolerance
+    if guess is not None:
+        settings["gmres.guess"] = guess
     subprocess.run(run_command(capsim, settings, out, "-q", "--profile", str(profile)),
                    check=True)
     prof, summary = json.loads(profile.read_text()), read_summary(out)
     strain_run = float(summary["t_end"])
     case = {"mesh_level": level, "lambda": lam, "capsules": capsules, "phi": phi,
             "gmres_tolerance": summary["parameters"].get("gmres.tolerance"),
+            "gmres_guess": summary["parameters"].get("gmres.guess"),
             "strain": strain_run, "steps": prof["steps"],
             "evaluations": prof["evaluations"],
             "seconds_per_strain": prof["seconds"]["loop"] / strain_run / capsules,
@@ -100,6 +104,9 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--gmres-tolerances", type=float, nargs="+", default=[None],
                     help="gmres.tolerance of the timed cases (default: capsim's)")
+    ap.add_argument("--gmres-guesses", nargs="+", default=["default"],
+                    choices=["default", "previous", "extrapolated"],
+                    help="gmres.guess of the timed cases (default: capsim's)")
     ap.add_argument("--reference-tolerance", type=float, default=1e-10,
                     help="gmres.tolerance of the reference each lambda != 1 is "
                     "compared with")
@@ -118,17 +125,21 @@ def main(argv=None):
                     continue
                 ref, ref_out = run_case(*common, tolerance=args.reference_tolerance)
                 for tolerance in args.gmres_tolerances:
-                    case, out = run_case(*common, tolerance=tolerance)
-                    case["default_tolerance"] = tolerance is None
-                    case["reference"] = ref
-                    case["difference_from_reference"] = difference(out, ref_out)
-                    cases.append(case)
+                    for guess in args.gmres_guesses:
+                        given = None if guess == "default" else guess
+                        case, out = run_case(*common, tolerance=tolerance, guess=given)
+                        case["default_tolerance"] = tolerance is None
+                        case["default_guess"] = given is None
+                        case["reference"] = ref
+                        case["difference_from_reference"] = difference(out, ref_out)
+                        cases.append(case)
     for case in cases:
         base = next(c for c in cases if c["mesh_level"] == case["mesh_level"]
                     and c["lambda"] == 1.0)
         case["cost_ratio"] = case["seconds_per_strain"] / base["seconds_per_strain"]
         print(f"level {case['mesh_level']} lambda {case['lambda']:g} "
-              f"(gmres.tolerance {case['gmres_tolerance']}): "
+              f"(gmres.tolerance {case['gmres_tolerance']}, "
+              f"guess {case['gmres_guess']}): "
               f"{case['seconds_per_strain']:.3g} s per capsule-strain "
               f"({case['cost_ratio']:.2f} x lambda 1), {case['steps']} steps, "
               f"GMRES {case['gmres_iterations_mean']:.1f} per solve "

@@ -260,6 +260,13 @@ const std::vector<Param>& parameters() {
           "that, far below the discretisation error (5e-3 at mesh_level 3); each decade "
           "tighter costs about two double layers per evaluation"),
       named(
+          "gmres.guess", kGmresGuesses,
+          [](RunOptions& o) -> GmresGuess& { return o.gmres_guess; },
+          "lambda != 1: GMRES's first guess, previous (the latest evaluation's velocity) "
+          "or extrapolated (linear in time through the latest velocities at the two "
+          "latest evaluation times: off by O(dt^2) instead of O(dt), so fewer "
+          "iterations reach gmres.tolerance)"),
+      named(
           "method", kEwaldMethods,
           [](RunOptions& o) -> EwaldMethod& { return o.ewald.method; },
           "periodic sums (phi > 0): spectral (Spectral Ewald, FFT), direct (plain "
@@ -562,6 +569,7 @@ namespace {
 const std::vector<std::pair<std::string, std::string>> kFormerValues = {
     {"ewald.precision", "double"},
     {"ewald.real_space_precision", "double"},
+    {"gmres.guess", "previous"},
 };
 
 } // namespace

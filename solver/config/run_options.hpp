@@ -6,6 +6,7 @@
 #include "dynamics/repulsion.hpp"
 #include "dynamics/time_schemes.hpp"
 #include "membrane/membrane_forces.hpp"
+#include "stokes/double_layer/guess_history.hpp"
 #include "stokes/ewald/ewald_setup.hpp"
 #include "stokes/single_layer/single_layer.hpp"
 
@@ -44,16 +45,17 @@ struct RunOptions {
   double phi = 0.0;              // volume fraction; 0 = one capsule in unbounded shear
   double lambda = 1.0;           // viscosity ratio interior / exterior
   double gmres_tolerance = 1e-6; // lambda != 1: GMRES's relative residual
-  int capsules = 1;              // capsules per periodic box
-  int mesh_level = 3;            // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
-  double dt = 0.0;               // time step in strain units; 0 = automatic ("auto")
-  double dt_safety = 1.0;        // C in the automatic step dt = C Ca h (limit ~1.5)
-  TimeOptions time;              // scheme and adaptive step
-  double t_end = 20.0;           // end of the run, gammadot t
-  double t_avg_start = 10.0;     // start of the averaging window, gammadot t
-  int seed = 1;                  // random seed (initial positions of suspensions)
-  std::string flow = "shear";    // shear (v = (y, 0, 0)) or quiescent
-  double initial_stretch = 1.0;  // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
+  GmresGuess gmres_guess = GmresGuess::extrapolated; // lambda != 1: its first guess
+  int capsules = 1;                                  // capsules per periodic box
+  int mesh_level = 3;           // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
+  double dt = 0.0;              // time step in strain units; 0 = automatic ("auto")
+  double dt_safety = 1.0;       // C in the automatic step dt = C Ca h (limit ~1.5)
+  TimeOptions time;             // scheme and adaptive step
+  double t_end = 20.0;          // end of the run, gammadot t
+  double t_avg_start = 10.0;    // start of the averaging window, gammadot t
+  int seed = 1;                 // random seed (initial positions of suspensions)
+  std::string flow = "shear";   // shear (v = (y, 0, 0)) or quiescent
+  double initial_stretch = 1.0; // initial shape: x -> (s x, y/sqrt s, z/sqrt s)
   LoadMapping load = LoadMapping::lumped;
   MembraneLaw law = MembraneLaw::neo_hookean; // neo_hookean (the paper) or drop
   double bending = 0.0;   // bending modulus kb / (Gs a^2); 0 = none (the paper)

@@ -11,7 +11,7 @@
 
 namespace capsim {
 
-CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup) {
+CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup), history_(setup.gmres_guess) {
   const PeriodicBox& box = setup_.box;
   if (box.L > 0 && box.method == EwaldMethod::spectral)
     spectral_ = std::make_unique<SpectralEwald>(box.L, box.ewald, box.grid);
@@ -36,7 +36,8 @@ void CpuFlow::traction(const std::vector<Vec3>& x, double t, std::vector<Vec3>& 
 void CpuFlow::evaluate_velocity(const std::vector<Vec3>& x, double t,
                                 std::vector<Vec3>& u) const {
   if (setup_.lambda != 1 && output_velocity_fits(x, t)) {
-    u = previous_velocity_ = output_.u;
+    u = output_.u;
+    remember(x, t, u);
     output_.x.clear();
     return;
   }
@@ -68,26 +69,26 @@ void CpuFlow::evaluate_velocity(const std::vector<Vec3>& x, double t,
 
 void CpuFlow::output_velocity(const std::vector<Vec3>& x, double t,
                               std::vector<Vec3>& u) const {
-  const std::vector<Vec3> guess = previous_velocity_;
+  const GuessHistory before = history_;
   velocity(x, t, u);
-  previous_velocity_ = guess;
+  history_ = before;
   if (setup_.lambda != 1)
-    output_ = {x, guess, u, t};
+    output_ = {x, before, u, t};
 }
 
 // Whether the output's velocity is what an evaluation at (x, t) would compute now: the
-// same state and the same first guess.
+// same state and the same guess history.
 bool CpuFlow::output_velocity_fits(const std::vector<Vec3>& x, double t) const {
   return !output_.x.empty() && t == output_.t && x == output_.x &&
-         previous_velocity_ == output_.guess;
+         history_ == output_.history;
 }
 
 // u_inf + u_SL in u on entry; on exit the surface velocity of capsules of interior
 // viscosity lambda mu: u - kappa K[u] = 2/(1 + lambda) (u_inf + u_SL)
-// (second_kind_solve.hpp, Pozrikidis 1992 ch. 5), deflated, from the previous
-// evaluation's velocity; in the periodic box with the periodic double layer
-// (periodic_double_layer.hpp, PeriodicBox::double_layer: Spectral-Ewald sums where the
-// single layer's are, plain ones otherwise), whose mean
+// (second_kind_solve.hpp, Pozrikidis 1992 ch. 5), deflated, from the guess of the
+// earlier evaluations' velocities (guess_history.hpp); in the periodic box with the
+// periodic double layer (periodic_double_layer.hpp, PeriodicBox::double_layer:
+// Spectral-Ewald sums where the single layer's are, plain ones otherwise), whose mean
 // velocity is u_inf's: the suspension's true mean differs from it by a uniform
 // translation, which moves no capsule relative to another and no stress.
 void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
@@ -96,8 +97,8 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
   std::vector<Vec3> f(u.size());
   for (size_t i = 0; i < u.size(); ++i)
     f[i] = (2.0 / (1.0 + lambda)) * u[i];
-  if (previous_velocity_.size() != u.size())
-    previous_velocity_ = u; // the first evaluation: u_inf + u_SL, the lambda = 1 velocity
+  // The first evaluation starts from u_inf + u_SL, the lambda = 1 velocity.
+  std::vector<Vec3> w = history_.empty() ? u : first_guess(x, t);
   SecondKindOptions options;
   options.tolerance = setup_.gmres_tolerance;
   options.deflate = true;
@@ -107,9 +108,9 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
                           spectral ? &b.double_layer_grid : nullptr,
                           spectral ? &b.double_layer_self : nullptr,
                           spectral ? &b.double_layer_self_grid : nullptr};
-  const SecondKindResult r = solve_second_kind(
-      membrane().topology(), num_capsules(), x, lambda, f, setup_.quadrature, options,
-      previous_velocity_, periodic() ? &box : nullptr);
+  const SecondKindResult r =
+      solve_second_kind(membrane().topology(), num_capsules(), x, lambda, f,
+                        setup_.quadrature, options, w, periodic() ? &box : nullptr);
   ++stats_.solves;
   stats_.iterations += r.iterations;
   stats_.max_iterations = std::max(stats_.max_iterations, r.iterations);
@@ -121,7 +122,31 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
       << " GMRES iterations";
     throw SimulationError(m.str());
   }
-  u = previous_velocity_;
+  remember(x, t, w);
+  u = std::move(w);
+}
+
+// gmres.guess extrapolated follows the disturbance u - u_inf: u_inf jumps by the box's
+// shear velocity where Lees-Edwards remapping (lees_edwards.hpp) puts a capsule back
+// across the sheared faces between two steps, the disturbance does not (a line through
+// the jump missed the next solution by twice it: 35 GMRES iterations instead of 7).
+// previous keeps the velocity itself, as the runs before the option took it.
+void CpuFlow::remember(const std::vector<Vec3>& x, double t,
+                       const std::vector<Vec3>& u) const {
+  if (setup_.gmres_guess == GmresGuess::previous)
+    return history_.record(t, u);
+  std::vector<Vec3> v = u;
+  for (size_t i = 0; i < v.size(); ++i)
+    v[i].x -= setup_.shear_rate * x[i].y;
+  history_.record(t, v);
+}
+
+std::vector<Vec3> CpuFlow::first_guess(const std::vector<Vec3>& x, double t) const {
+  std::vector<Vec3> g = history_.guess(t);
+  if (setup_.gmres_guess == GmresGuess::extrapolated)
+    for (size_t i = 0; i < g.size(); ++i)
+      g[i].x += setup_.shear_rate * x[i].y;
+  return g;
 }
 
 } // namespace capsim

@@ -8,6 +8,7 @@
 #include "common/choice.hpp"
 #include "dynamics/repulsion.hpp"
 #include "membrane/membrane_forces.hpp"
+#include "stokes/double_layer/guess_history.hpp"
 #include "stokes/ewald/ewald_setup.hpp"
 #include "stokes/single_layer/periodic_single_layer.hpp"
 #include "stokes/single_layer/single_layer.hpp"
@@ -46,8 +47,10 @@ struct FlowSetup {
   // is u_inf + u_SL; otherwise the second-kind solution of
   // stokes/double_layer/second_kind_solve.hpp, in unbounded fluid or the periodic box.
   double lambda = 1.0;
-  // lambda != 1: GMRES stops at this residual relative to the right-hand side.
+  // lambda != 1: GMRES stops at this residual relative to the right-hand side, from the
+  // first guess gmres_guess makes of the earlier evaluations' solutions.
   double gmres_tolerance = 1e-6;
+  GmresGuess gmres_guess = GmresGuess::extrapolated;
 };
 
 // What a backend can evaluate. Declared once per backend, checked once by the factory.

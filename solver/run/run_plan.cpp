@@ -105,6 +105,7 @@ FlowSetup flow_setup(const RunPlan& plan, const Membrane& membrane) {
   s.repulsion = o.suspension.repulsion;
   s.lambda = o.lambda;
   s.gmres_tolerance = o.gmres_tolerance;
+  s.gmres_guess = o.gmres_guess;
   return s;
 }
 

@@ -4,6 +4,7 @@
 // levels 2-4 (quoted beside each check), so that a loss of order fails.
 #include "mesh/surface_geometry.hpp"
 #include "stokes/double_layer/double_layer.hpp"
+#include "stokes/double_layer/guess_history.hpp"
 #include "stokes/double_layer/second_kind_solve.hpp"
 #include "stokes/single_layer/single_layer.hpp"
 #include "test_helpers.hpp"
@@ -377,6 +378,27 @@ TEST_CASE("second kind: a good first guess saves GMRES iterations", "[double_lay
   const SecondKindResult again =
       solve_second_kind(d.mesh.topology, 1, d.mesh.positions, 10, d.f, {}, o, u);
   CHECK(again.iterations == 0);
+}
+
+TEST_CASE("second kind: the extrapolated first guess is exact for a solution linear in "
+          "time; the previous one is the latest solution",
+          "[double_layer]") {
+  const auto line = [](double t) {
+    return std::vector<Vec3>{{1 + 2 * t, -t, 3}, {0.5 * t, 4, -2 + t}};
+  };
+  GuessHistory h(GmresGuess::extrapolated), p(GmresGuess::previous);
+  for (GuessHistory* g : {&h, &p}) {
+    g->record(0.0, line(0.0));
+    g->record(0.1, line(0.1));
+    // A step's first stage at the sum of the steps: the same time to rounding.
+    g->record(0.1 + 1e-16, line(0.1));
+  }
+  CHECK(max_error(h.guess(0.25), line(0.25)) < 1e-14);
+  CHECK(max_error(h.guess(0.1), line(0.1)) == 0); // no extrapolation to the same time
+  CHECK(max_error(p.guess(0.25), line(0.1)) == 0);
+  // Back in time (a rejected step): the latest solution, no line.
+  h.record(0.05, line(0.05));
+  CHECK(max_error(h.guess(0.1), line(0.05)) == 0);
 }
 
 TEST_CASE("second kind: lambda = 1 is the identity, u = f exactly with no iteration",

@@ -103,7 +103,9 @@ TEST_CASE("config: a checkpoint without a key added later resumes with the value
       parse_checkpoint_options("ca: 0.2\nphi: 0.3\n", {"t_end=30"}, "c");
   CHECK(old.ewald.precision == Precision::double_precision);
   CHECK(old.ewald.real_space_precision == Precision::double_precision);
+  CHECK(old.gmres_guess == GmresGuess::previous);
   CHECK(old.t_end == 30);
+  CHECK(parse_run_options("ca: 0.2\n", {}).gmres_guess == GmresGuess::extrapolated);
   CHECK(parse_run_options("ca: 0.2\n", {}).ewald.real_space_precision ==
         Precision::automatic); // today's default, for a new run
   // A checkpoint that stores the key keeps its value.
