@@ -77,8 +77,8 @@ def planned_jobs(output):
 @pytest.mark.parametrize("configfile, runs, on_page", [
     ("config.yaml", 40 + 21, 0),
     # 44: the mesh study's level 3 is the grid's run (both to t_e 30); 22: the limit
-    # eb -> 0 (eblimit.in_grid); 2: the reference study's seeds (reference.on_page)
-    ("quantitative.yaml", 44 + 21 + 22, 2),
+    # eb -> 0 (eblimit.in_grid); 3: the reference study's seeds (reference.on_page)
+    ("quantitative.yaml", 44 + 21 + 22, 3),
 ])
 def test_configuration_plans(tmp_path, configfile, runs, on_page):
     (tmp_path / "no_archive.yaml").write_text("archive: null\n")
