@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 CAPSIM = ROOT / "build" / "capsim"
@@ -62,6 +63,16 @@ def test_ci_workflow_and_check(tmp_path):
     assert again.returncode == 0
     assert "Nothing to be done" in again.stdout + again.stderr
     assert "main studies: 0 of 16 runs to compute, about 0.0 h" in again.stderr
+    # A seed added to a study's list is seen where its table exists: the configuration
+    # files are an input of every table (modification times alone would not see it).
+    more = yaml.safe_load((ROOT / "config" / "ci.yaml").read_text())
+    more["initial"]["seeds"] = [1, 2, 3]
+    (tmp_path / "more.yaml").write_text(yaml.safe_dump(more))
+    plan = snakemake(tmp_path, "all", "-n", extra=["--configfile", str(tmp_path / "more.yaml")])
+    assert plan.returncode == 0, plan.stdout[-3000:] + plan.stderr[-3000:]
+    jobs = planned_jobs(plan.stdout)
+    assert jobs["run"] == 1 and jobs["run_table"] >= 1
+    assert "results/initial/ca0.4_phi0.2_M2_level1_seed3" in plan.stdout
 
 
 def planned_jobs(output):

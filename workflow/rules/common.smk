@@ -17,6 +17,13 @@ SUSPENSION_STUDIES = ["grid", "mesh", "initial", "boxsize", "snapshots", "refere
 # archived first): study -> function returning the RunSpecs it makes. The archive restores
 # and records them as any run; the estimate of the main studies leaves them out.
 ON_DEMAND_RUNS = {}
+
+# The configuration files of this invocation, an input of every rule that gathers a
+# study's runs (its table): under the profile's modification-time rule a run added to a
+# study's list (a seed, a point of t_end_at) is otherwise not seen where the table
+# exists (Snakemake 9.27: "Nothing to be done"). An edited configuration remakes the
+# tables (seconds) and what reads them; the runs themselves are not remade.
+CONFIG_FILES = [os.path.abspath(f) for f in workflow.configfiles]
 # Studies outside SUSPENSION_STUDIES whose runs `all` needs (eblimit with in_grid).
 MAIN_STUDY_RUNS = {}
 

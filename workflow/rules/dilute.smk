@@ -17,6 +17,7 @@ rule dilute_table:
         code=imported_modules(figure_script("dilute_table")),
         summaries=[dilute_summary(ca, level) for ca in DILUTE["ca"]
                    for level in DILUTE["mesh_levels"]],
+        configs=CONFIG_FILES,
     output:
         table="results/dilute/table.md",
         csv="results/dilute/table.csv",

@@ -49,6 +49,7 @@ rule eblimit_table:
     input:
         code=analysis_module("bending_limit"),
         runs=[os.path.join(spec.folder, "summary.json") for _, spec in eblimit_runs()],
+        configs=CONFIG_FILES,
     output:
         csv="results/eblimit/table.csv",
         md="results/eblimit/table.md",

@@ -43,14 +43,15 @@ rule coefficients:
         "--out {output} {input.table} > {log} 2>&1"
 
 
-# A script, the modules it imports and the style are inputs: editing one redraws the
-# figures that use it.
+# A script, the modules it imports, the style and the configuration files are inputs:
+# editing one redraws the figures that use it.
 rule figure:
     input:
         script=lambda wc: figure_script(wc.name),
         code=lambda wc: imported_modules(figure_script(wc.name)),
         style=os.path.join(ROOT, "figures", "matplotlibrc"),
         data=lambda wc: FIGURE_INPUTS[wc.name](),
+        configs=CONFIG_FILES,  # the runs a figure reads directly, and its options
     output:
         png="results/figures/{name}.png",
         pdf="results/figures/{name}.pdf",

@@ -104,6 +104,7 @@ rule run_table:
     input:
         code=analysis_module("tables"),
         suspensions=lambda wc: study_runs(wc.study),
+        configs=CONFIG_FILES,
         dilute=lambda wc: STUDY_DILUTE.get(wc.study, lambda: [])(),
     log:
         "results/logs/{study}/{table}.log",

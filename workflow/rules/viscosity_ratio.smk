@@ -77,6 +77,7 @@ rule viscosity_ratio_dense_table:
         code=analysis_module("viscosity_ratio"),
         runs=[os.path.join(spec.folder, "summary.json")
               for _, spec in viscosity_ratio_dense_runs()],
+        configs=CONFIG_FILES,
     output:
         csv="results/viscosity_ratio/dense.csv",
         md="results/viscosity_ratio/dense.md",
@@ -122,6 +123,7 @@ rule viscosity_ratio_table:
     input:
         code=analysis_module("viscosity_ratio"),
         runs=[os.path.join(spec.folder, "summary.json") for _, spec in viscosity_ratio_runs()],
+        configs=CONFIG_FILES,
     output:
         csv="results/viscosity_ratio/table.csv",
         md="results/viscosity_ratio/table.md",
