@@ -129,8 +129,8 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
 // gmres.guess extrapolated follows the disturbance u - u_inf: u_inf jumps by the box's
 // shear velocity where Lees-Edwards remapping (lees_edwards.hpp) puts a capsule back
 // across the sheared faces between two steps, the disturbance does not (a line through
-// the jump missed the next solution by twice it: 35 GMRES iterations instead of 7).
-// previous keeps the velocity itself, as the runs before the option took it.
+// the jump would miss the next solution by twice the jump). previous keeps the velocity
+// itself, as the runs before the option took it.
 void CpuFlow::remember(const std::vector<Vec3>& x, double t,
                        const std::vector<Vec3>& u) const {
   if (setup_.gmres_guess == GmresGuess::previous)
