@@ -10,6 +10,16 @@
 #include <stdexcept>
 
 namespace capsim {
+namespace {
+
+// v += sign u_inf(x) at the nodes, u_inf = (shear_rate y, 0, 0) the imposed shear.
+void add_shear_flow(const std::vector<Vec3>& x, double shear_rate, double sign,
+                    std::vector<Vec3>& v) {
+  for (size_t i = 0; i < x.size(); ++i)
+    v[i].x += sign * shear_rate * x[i].y;
+}
+
+} // namespace
 
 CpuFlow::CpuFlow(const FlowSetup& setup) : Flow(setup), history_(setup.gmres_guess) {
   const PeriodicBox& box = setup_.box;
@@ -60,8 +70,7 @@ void CpuFlow::evaluate_velocity(const std::vector<Vec3>& x, double t,
     if (!periodic())
       profile_->unbounded += omp_get_wtime() - t1;
   }
-  for (size_t i = 0; i < x.size(); ++i)
-    u[i].x += setup_.shear_rate * x[i].y;
+  add_shear_flow(x, setup_.shear_rate, 1, u);
   if (setup_.lambda != 1) // at lambda = 1 u is the solution itself: no solve
     solve_viscosity_ratio(x, t, u);
   require_finite(u, topo.num_nodes, "velocity", t);
@@ -136,16 +145,14 @@ void CpuFlow::remember(const std::vector<Vec3>& x, double t,
   if (setup_.gmres_guess == GmresGuess::previous)
     return history_.record(t, u);
   std::vector<Vec3> v = u;
-  for (size_t i = 0; i < v.size(); ++i)
-    v[i].x -= setup_.shear_rate * x[i].y;
+  add_shear_flow(x, setup_.shear_rate, -1, v);
   history_.record(t, v);
 }
 
 std::vector<Vec3> CpuFlow::first_guess(const std::vector<Vec3>& x, double t) const {
   std::vector<Vec3> g = history_.guess(t);
   if (setup_.gmres_guess == GmresGuess::extrapolated)
-    for (size_t i = 0; i < g.size(); ++i)
-      g[i].x += setup_.shear_rate * x[i].y;
+    add_shear_flow(x, setup_.shear_rate, 1, g);
   return g;
 }
 
