@@ -11,6 +11,7 @@ and their standard errors: a1, a2 for mu_sp, b1, b2 for N1) and prints one row p
 """
 
 import argparse
+import functools
 import sys
 from pathlib import Path
 
@@ -31,6 +32,7 @@ def higher_share(x, phi):
 def budget(table, fits, phi, key="mu_sp"):
     """One row per Ca: the share, its standard error from each input alone and in all."""
     c1, c2 = COEFFICIENTS[key]
+    share = functools.partial(higher_share, phi=phi)
     rows = []
     for _, fit in fits.iterrows():
         point = table[(table.ca == fit.ca) & np.isclose(table.phi, phi)]
@@ -39,14 +41,12 @@ def budget(table, fits, phi, key="mu_sp"):
         y = point.iloc[0]
         x = np.array([y[key], fit[c1], fit[c2]])
         se = np.array([y[key + "_se"], fit[c1 + "_se"], fit[c2 + "_se"]])
-        alone = [propagated_standard_error(lambda v: higher_share(v, phi), x,
-                                           np.where(np.arange(3) == j, se, 0.0))
+        alone = [propagated_standard_error(share, x, np.where(np.arange(3) == j, se, 0.0))
                  for j in range(3)]
-        rows.append({"ca": fit.ca, "phi": phi, "share": higher_share(x, phi),
+        rows.append({"ca": fit.ca, "phi": phi, "share": share(x),
                      f"se_from_{key}": alone[0], f"se_from_{c1}": alone[1],
                      f"se_from_{c2}": alone[2],
-                     "se": propagated_standard_error(lambda v: higher_share(v, phi), x, se),
-                     "t_end": y.t_end})
+                     "se": propagated_standard_error(share, x, se), "t_end": y.t_end})
     return pd.DataFrame(rows)
 
 
