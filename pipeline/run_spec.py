@@ -127,7 +127,7 @@ def _lambda_cost_ratios(dense):
     name = "viscosity_ratio_cost_dense.json" if dense else "viscosity_ratio_cost.json"
     record = json.loads((ROOT / "benchmarks" / "records" / name).read_text())
     return {(c["mesh_level"], c["lambda"]): c["cost_ratio"] for c in record["cases"]
-            if c.get("default_tolerance", True) and c.get("default_guess", True)}
+            if all(v for k, v in c.items() if k.startswith("default_"))}
 
 
 def lambda_cost_ratio(level, ratio, dense):
