@@ -120,6 +120,10 @@ void CpuFlow::solve_viscosity_ratio(const std::vector<Vec3>& x, double t,
   const SecondKindResult r =
       solve_second_kind(membrane().topology(), num_capsules(), x, lambda, f,
                         setup_.quadrature, options, w, periodic() ? &box : nullptr);
+  if (profile_) {
+    profile_->double_layer_setup += r.setup_seconds;
+    profile_->double_layer_apply += r.apply_seconds;
+  }
   ++stats_.solves;
   stats_.iterations += r.iterations;
   stats_.max_iterations = std::max(stats_.max_iterations, r.iterations);

@@ -82,11 +82,13 @@ struct SecondKindStats {
 // fills every field; another backend only the totals.
 struct FlowProfile {
   long evaluations = 0;
-  double velocity = 0;      // all of velocity()
-  double traction = 0;      // membrane load (and repulsion), of velocity()
-  double unbounded = 0;     // the free-space single layer (one capsule, phi = 0)
-  PeriodicTimings periodic; // the Ewald stages: set-up, near, real space, reciprocal
-  double volume_rate = 0;   // removing each capsule's volume rate from u
+  double velocity = 0;           // all of velocity()
+  double traction = 0;           // membrane load (and repulsion), of velocity()
+  double unbounded = 0;          // the free-space single layer (one capsule, phi = 0)
+  PeriodicTimings periodic;      // the Ewald stages: set-up, near, real space, reciprocal
+  double double_layer_setup = 0; // lambda != 1: the double layer set up for each solve
+  double double_layer_apply = 0; // and applied, once per GMRES iteration (and residual)
+  double volume_rate = 0;        // removing each capsule's volume rate from u
 };
 
 class Flow {

@@ -20,6 +20,8 @@ void write_run_profile(const std::string& path, const RunProfile& p) {
       {"spreading", e.spectral.spread},
       {"fft", e.spectral.fft},
       {"gathering", e.spectral.gather},
+      {"double_layer_setup", f.double_layer_setup},
+      {"double_layer_apply", f.double_layer_apply},
       {"volume_rate", f.volume_rate},
       {"evaluations", f.velocity + f.volume_rate},
       {"stepping", p.stepping},

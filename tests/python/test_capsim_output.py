@@ -64,6 +64,25 @@ def test_the_profile_accounts_for_the_steps(tmp_path):
     assert sum(s[k] for k in parts) <= s["evaluations"] <= s["stepping"] <= s["loop"]
     assert s["spreading"] + s["fft"] + s["gathering"] <= s["reciprocal"]
     assert s["unbounded_single_layer"] == 0
+    assert s["double_layer_setup"] == s["double_layer_apply"] == 0  # lambda 1: no solve
+
+
+def test_the_profile_times_the_double_layer_of_another_viscosity_ratio(tmp_path):
+    """At lambda 5 each evaluation solves the second-kind equation: the profile's
+    double_layer_setup (once per solve) and double_layer_apply (once per GMRES
+    iteration and for the first residual) ran, within the evaluations, beside the
+    single layer's Ewald stages."""
+    out, profile = tmp_path / "run", tmp_path / "profile.json"
+    subprocess.run([str(CAPSIM), "run", "-q", "--set", "ca=0.3", "--set", "phi=0.2",
+                    "--set", "capsules=2", "--set", "mesh_level=1", "--set", "t_end=0.3",
+                    "--set", "t_avg_start=0.1", "--set", "threads=1", "--set", "lambda=5",
+                    "--set", "output.snapshot_interval=0", "-o", str(out),
+                    "--profile", str(profile)], check=True)
+    s = json.loads(profile.read_text())["seconds"]
+    layers = ["double_layer_setup", "double_layer_apply", "ewald_setup",
+              "near_corrections", "real_space", "reciprocal"]
+    assert all(s[k] > 0 for k in layers)
+    assert sum(s[k] for k in layers) <= s["evaluations"]
 
 
 def test_single_precision_grids_move_a_short_run_by_their_rounding(tmp_path):

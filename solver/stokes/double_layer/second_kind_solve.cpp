@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <memory>
+#include <omp.h>
 #include <stdexcept>
 #include <unsupported/Eigen/IterativeSolvers>
 
@@ -248,19 +249,25 @@ SecondKindResult solve_second_kind(const Topology& topo, int num_capsules,
   std::unique_ptr<DoubleLayer> free;
   std::unique_ptr<PeriodicDoubleLayer> periodic;
   DoubleLayerApply k;
+  const double t0 = omp_get_wtime();
   if (box) {
     periodic = std::make_unique<PeriodicDoubleLayer>(
         topo, num_capsules, x, box->lattice, box->ewald, quadrature, box->spectral,
         box->self_ewald, box->self_grid);
-    k = [&periodic](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
+    k = [&periodic, &result](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
+      const double t = omp_get_wtime();
       periodic->apply(w, out);
+      result.apply_seconds += omp_get_wtime() - t;
     };
   } else {
     free = std::make_unique<DoubleLayer>(topo, num_capsules, x, quadrature);
-    k = [&free](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
+    k = [&free, &result](const std::vector<Vec3>& w, std::vector<Vec3>& out) {
+      const double t = omp_get_wtime();
       free->apply(w, out);
+      result.apply_seconds += omp_get_wtime() - t;
     };
   }
+  result.setup_seconds = omp_get_wtime() - t0;
   const double box_volume = box ? std::pow(box->lattice.L, 3) : 0.0;
   const SecondKindOperator op(std::move(k), topo, num_capsules, x, lambda,
                               options.deflate, box_volume);

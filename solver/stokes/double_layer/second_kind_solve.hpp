@@ -83,6 +83,10 @@ struct SecondKindResult {
   int iterations = 0;    // GMRES iterations (one application of K each)
   double residual = 0;   // ||f - A w|| / ||f|| reached (GMRES's estimate)
   bool converged = true; // residual <= tolerance
+  // Wall seconds: setting the double layer up for this geometry (near lists, self
+  // matrices), and applying it (once for the first residual, once per iteration).
+  double setup_seconds = 0;
+  double apply_seconds = 0;
 };
 
 // k = K[u] at the nodes: the free-space or the periodic double layer of one geometry.
