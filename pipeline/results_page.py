@@ -185,10 +185,11 @@ def viscosity_ratio_lines(results, figure_dir):
     if not dense.exists():
         return lines + [
             "The dense suspension at other viscosity ratios (Ca 0.2, phi 0.1-0.3, M = 27) "
-            "is not computed yet: at lambda 5 it costs "
-            f"{run_spec.lambda_cost_ratio(2, 5.0, dense=True):.0f} times lambda = 1 "
-            "(M = 8, level 2, phi 0.3: `benchmarks/records/viscosity_ratio_cost_dense.json`, "
-            "`docs/method.md`).", ""]
+            "is computed on demand (`snakemake viscosity_ratio_dense`) and shown here once "
+            "all its runs are archived (`docs/suspensions.md` has those that are): at "
+            f"lambda 5 it costs {run_spec.lambda_cost_ratio(2, 5.0, dense=True):.0f} times "
+            "lambda = 1 (M = 8, level 2, phi 0.3: "
+            "`benchmarks/records/viscosity_ratio_cost_dense.json`, `docs/method.md`).", ""]
     return lines + [
         "### The suspension at other viscosity ratios", "",
         "The grid's suspension at the Table 1 point's Ca with interior viscosity lambda "
