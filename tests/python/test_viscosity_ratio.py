@@ -217,7 +217,7 @@ def test_the_results_page_section(results, tmp_path):
     assert "the rows with lambda != 1 are beyond the paper" in text
     assert "| 0.2 | 5 |" in text and "numerical at" in text
     assert "![The viscosity ratio](" in text and (tmp_path / "viscosity_ratio.png").exists()
-    dense = [line for line in lines if "not computed yet" in line]
+    dense = [line for line in lines if "once all its runs are archived" in line]
     assert len(dense) == 1 and "Ca 0.2, phi 0.1-0.3, M = 27" in dense[0]
     ratio = run_spec.lambda_cost_ratio(2, 5.0, dense=True)
     assert f"costs {ratio:.0f} times lambda = 1" in dense[0]
@@ -282,4 +282,4 @@ def test_the_dense_table_and_figure(tiny_dense, tmp_path):
     (tmp_path / "page").mkdir()
     page = "\n".join(results_page.viscosity_ratio_lines(tmp_path, tmp_path / "page"))
     assert "### The suspension at other viscosity ratios" in page
-    assert "| 0.1 | 5 |" in page and "not computed yet" not in page
+    assert "| 0.1 | 5 |" in page and "once all its runs are archived" not in page
