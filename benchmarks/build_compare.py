@@ -2,8 +2,8 @@
 invocation, for a change that should make a step cheaper.
 
     .venv/bin/python benchmarks/build_compare.py --old OLD/capsim [--new build/capsim]
-        [--old-label COMMIT] [--new-set KEY=VALUE ...]
-        [--out results/benchmarks/build_compare.json]
+        [--old-label COMMIT] [--set KEY=VALUE ...] [--new-set KEY=VALUE ...]
+        [--cases LEVEL:STRAIN ...] [--out results/benchmarks/build_compare.json]
 
 OLD is a capsim built from the commit to compare with (for example in a git worktree:
 `git worktree add /tmp/old <commit> && bash scripts/setup.sh` there). For the Table 1
@@ -15,7 +15,9 @@ both alike) and reports, per build, the wall and CPU seconds per capsule per uni
 stage, and the accuracy: whether the two builds' time series are identical, else the
 largest difference of D and the stresslet relative to their largest values, and the
 averages <D> and mu_sp over the second half with their standard errors. --new-set gives
-the new build further capsim options (a setting the old one lacks, e.g. time.scheme=rkc).
+the new build further capsim options (a setting the old one lacks, e.g. time.scheme=rkc),
+--set both builds (e.g. lambda=5 gmres.tolerance=1e-5, the dense viscosity-ratio study's
+settings); --cases replaces the meshes and strains (e.g. 3:0.5).
 Run it on an otherwise idle machine.
 """
 
@@ -56,13 +58,22 @@ def difference(a, b):
     return out
 
 
-def compare(level, strain, builds, threads, scratch, new_options):
+def level_strain(text):
+    """A --cases word LEVEL:STRAIN as (int, float)."""
+    level, _, strain = text.partition(":")
+    try:
+        return int(level), float(strain)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: not LEVEL:STRAIN (e.g. 3:0.5)")
+
+
+def compare(level, strain, builds, threads, scratch, options, new_options):
     runs = {"old": [], "new": []}
     for k, which in enumerate(ORDER):
         out = Path(scratch) / f"l{level}_{which}{k}"
-        options = new_options if which == "new" else {}
+        extra = {**options, **(new_options if which == "new" else {})}
         runs[which].append(run(level, strain, threads, out, capsim=builds[which],
-                               **options))
+                               **extra))
         runs[which][-1]["series"] = read_timeseries(out)
     per = {w: {key: float(np.mean([r[key] for r in rs]))
                for key in ("wall_s_per_capsule_strain", "cpu_s_per_capsule_strain")}
@@ -87,19 +98,26 @@ def main():
                     help="how the record names the old build (e.g. its commit)")
     ap.add_argument("--new-label", default="this checkout's build",
                     help="how the record names the new build")
+    ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="further capsim options of both builds' runs")
     ap.add_argument("--new-set", nargs="*", default=[], metavar="KEY=VALUE",
                     help="further capsim options of the new build's runs")
+    ap.add_argument("--cases", nargs="+", type=level_strain, metavar="LEVEL:STRAIN",
+                    default=list(CASES.items()),
+                    help="mesh levels and strains (default: 3:2 4:0.3)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--out", help="also write the JSON here")
     args = ap.parse_args()
     builds = {"old": args.old, "new": args.new}
+    options = dict(o.split("=", 1) for o in args.set)
     new_options = dict(o.split("=", 1) for o in args.new_set)
     # The record names the builds by label, not by path (a path is of one machine).
     result = {"builds": {"old": args.old_label, "new": args.new_label},
-              "new_options": new_options, "threads": args.threads, "levels": {}}
+              "options": options, "new_options": new_options, "threads": args.threads, "levels": {}}
     with tempfile.TemporaryDirectory() as scratch:
-        for level, strain in CASES.items():
-            entry = compare(level, strain, builds, args.threads, scratch, new_options)
+        for level, strain in args.cases:
+            entry = compare(level, strain, builds, args.threads, scratch, options,
+                            new_options)
             result["levels"][level] = entry
             print(f"level {level}: wall ratio old/new {entry['wall_ratio']:.3f}, CPU ratio "
                   f"{entry['cpu_ratio']:.3f}; differences " + ", ".join(

@@ -25,6 +25,7 @@
 // the cosines cancelling between k and -k (A is odd). The k = 0 term is zero: see
 // periodic_double_layer.hpp.
 #include "common/constants.hpp"
+#include "common/fast_special.hpp"
 #include "common/hd.hpp"
 #include "common/vec3.hpp"
 
@@ -54,26 +55,45 @@ CAPSIM_HD void symmetric_rank3_add_matrix(Vec3 v, double c, double e, Vec3 a,
   m[5] += c * (a.y * v.z + v.y * a.z) + s * v.y * v.z;
 }
 
+// The symmetric part of u a^T, (u a^T + a u^T)/2 (xx, yy, zz, xy, xz, yz): all that a
+// fully symmetric rank-3 tensor sees of u_i and a_k.
+CAPSIM_HD void symmetric_product(Vec3 u, Vec3 a, double d[6]) {
+  d[0] = u.x * a.x, d[1] = u.y * a.y, d[2] = u.z * a.z;
+  d[3] = 0.5 * (u.x * a.y + u.y * a.x);
+  d[4] = 0.5 * (u.x * a.z + u.z * a.x);
+  d[5] = 0.5 * (u.y * a.z + u.z * a.y);
+}
+
 // The symmetric matrix m (xx, yy, zz, xy, xz, yz) times u.
 CAPSIM_HD Vec3 symmetric_matrix_apply(const double m[6], Vec3 u) {
   return {m[0] * u.x + m[3] * u.y + m[4] * u.z, m[3] * u.x + m[1] * u.y + m[5] * u.z,
           m[4] * u.x + m[5] * u.y + m[2] * u.z};
 }
 
-// The radial factors C and E of the real-space stresslet (2), from |r|^2.
-CAPSIM_HD void stresslet_real_factors(double r2, double xi, double& c, double& e) {
+// The radial factors C and E of the real-space stresslet (2), from |r|^2, with erfc(x)
+// written as exp(-x^2) erfcx(x) through the branch-free functions of fast_special.hpp
+// (as ewald_real_factors), so that loops over sources vectorise (stresslet_real_sum).
+CAPSIM_HD_INLINE void stresslet_real_factors(double r2, double xi, double& c, double& e) {
   constexpr double kInvSqrtPi = 0.56418958354775628695;
-  const double r = std::sqrt(r2), x = xi * r, g = std::exp(-x * x);
+  const double r = std::sqrt(r2), x = xi * r;
+  // One division for both reciprocals, 1/r and 1/(K + x).
+  const double inv_both = 1.0 / (r * (kErfcxK + x));
+  const double rinv = (kErfcxK + x) * inv_both, rinv2 = rinv * rinv;
+  const double g = exp_nonpositive(-x * x), erfcx = erfcx_nonnegative(x, r * inv_both);
   c = 4.0 * kInvSqrtPi * xi * xi * xi * g;
-  e = -2.0 / (r2 * r2) *
-      (3.0 * std::erfc(x) / r + 2.0 * kInvSqrtPi * xi * (3.0 + 2.0 * x * x) * g);
+  e = -2.0 * g * rinv2 * rinv2 *
+      (3.0 * erfcx * rinv + 2.0 * kInvSqrtPi * xi * (3.0 + 2.0 * x * x));
 }
 
-// u_i T^R_ijk(r) a_k (2).
-CAPSIM_HD Vec3 stresslet_real_apply(Vec3 r, Vec3 u, Vec3 a, double xi) {
+// u_i T^R_ijk(r) a_k (2) from the symmetric part d = (u a^T + a u^T)/2 (xx, yy, zz, xy,
+// xz, yz), which is all the fully symmetric T sees:
+// C [tr(d) r + 2 d r] + E (r . d r) r.
+CAPSIM_HD_INLINE Vec3 stresslet_real_apply_symmetric(Vec3 r, const double d[6],
+                                                     double xi) {
   double c, e;
   stresslet_real_factors(dot(r, r), xi, c, e);
-  return symmetric_rank3_apply(r, c, e, u, a);
+  const Vec3 dr = symmetric_matrix_apply(d, r);
+  return c * ((d[0] + d[1] + d[2]) * r + 2.0 * dr) + (e * dot(r, dr)) * r;
 }
 
 // T^R_ijk(r) a_k (2), added to m.

@@ -4,12 +4,12 @@
 #include "mesh/surface_geometry.hpp"
 #include "stokes/double_layer/double_layer.hpp"
 #include "stokes/double_layer/ewald_stresslet.hpp"
+#include "stokes/double_layer/stresslet_real_sum.hpp"
 #include "stokes/quadrature/element_integrals.hpp"
 #include "stokes/quadrature/near_triangle_cells.hpp"
 #include "stokes/quadrature/triangle_sources.hpp"
 
 #include <cmath>
-#include <optional>
 #include <stdexcept>
 
 namespace capsim {
@@ -84,16 +84,68 @@ void PeriodicDoubleLayer::setup_near_lists() {
 // pass per capsule, SpectralStresslet::add_group_matrices).
 void PeriodicDoubleLayer::setup_self_matrices(const EwaldParameters* self_ewald,
                                               const SpectralParameters* self_grid) {
-  const int n = num_nodes();
-  const int nk = spectral_ ? 0 : int(k_.size()); // the direct sum's wave vectors
-  const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
+  for (auto& s : self_)
+    s.assign(num_nodes(), 0.0);
   // The real-space part at the self matrices' own split, where they have one.
-  const EwaldParameters& ew = self_ewald ? *self_ewald : ewald_;
-  std::optional<PeriodicCells> own_cells;
+  add_self_real_space(self_ewald ? *self_ewald : ewald_);
+  const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
   if (self_ewald)
-    own_cells.emplace(lattice_, ew.r_cut, tri_.y);
-  const PeriodicCells& cells = self_ewald ? *own_cells : cells_;
+    SpectralStresslet(lattice_.L, *self_ewald, *self_grid)
+        .add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
+                            size_t(topo_.num_nodes), self_);
+  else if (spectral_)
+    spectral_->add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
+                                  size_t(topo_.num_nodes), self_);
+  else
+    add_self_reciprocal_direct();
+}
+
+// The real-space part of self_: per capsule a cell list of its own rule points only (the
+// other capsules' points, most of the sphere at a dense suspension's self split, are
+// never visited); per node the pairs within r_cut are gathered and summed in one
+// vectorised loop.
+void PeriodicDoubleLayer::add_self_real_space(const EwaldParameters& ew) {
+  const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
   const double rc2 = ew.r_cut * ew.r_cut;
+  for (int c = 0; c < num_capsules_; ++c) {
+    const auto first = tri_.y.begin() + c * per_capsule;
+    const PeriodicCells cells(lattice_, ew.r_cut, {first, first + per_capsule},
+                              PeriodicCells::Index::table, 2.0);
+    std::vector<Vec3> a(cells.size());
+    for (int j = 0; j < cells.size(); ++j)
+      a[j] = tri_.a[c * per_capsule + cells.point(j)];
+#pragma omp parallel
+    {
+      PairBuffer b; // separations r and normals a
+      b.reserve(1024);
+#pragma omp for schedule(dynamic, 16)
+      for (int i = c * topo_.num_nodes; i < (c + 1) * topo_.num_nodes; ++i) {
+        b.n = 0;
+        cells.for_neighbour_runs(x_[i], [&](int begin, int end, Vec3 shift) {
+          b.reserve(2 * (b.n + size_t(end - begin)));
+          const Vec3 xs = x_[i] - shift;
+          size_t m = b.n;
+          for (int j = begin; j < end; ++j) {
+            const Vec3 r = xs - cells.wrapped(j);
+            b.rx[m] = r.x, b.ry[m] = r.y, b.rz[m] = r.z;
+            b.fx[m] = a[j].x, b.fy[m] = a[j].y, b.fz[m] = a[j].z;
+            m += dot(r, r) < rc2 ? 1 : 0;
+          }
+          b.n = m;
+        });
+        double m[6] = {0, 0, 0, 0, 0, 0};
+        stresslet_real_matrix_sum(b, ew.xi, m);
+        for (int k = 0; k < 6; ++k)
+          self_[k][i] += m[k];
+      }
+    }
+  }
+}
+
+// The reciprocal part of self_ by the direct sum over the wave vectors (the reference).
+void PeriodicDoubleLayer::add_self_reciprocal_direct() {
+  const int nk = int(k_.size());
+  const size_t per_capsule = topo_.triangles.size() * triangle_rule_3().n;
   // B_c(k): [capsule][k] real and imaginary vectors.
   std::vector<Vec3> b_re(size_t(num_capsules_) * nk), b_im(b_re.size());
 #pragma omp parallel for schedule(static)
@@ -104,18 +156,11 @@ void PeriodicDoubleLayer::setup_self_matrices(const EwaldParameters* self_ewald,
       b_re[j] += std::cos(th) * tri_.a[g];
       b_im[j] -= std::sin(th) * tri_.a[g];
     }
-  for (auto& s : self_)
-    s.assign(n, 0.0);
   const double pre = reciprocal_prefactor(lattice_);
 #pragma omp parallel for schedule(dynamic, 16)
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < num_nodes(); ++i) {
     const int own = i / topo_.num_nodes;
-    double m[6] = {0, 0, 0, 0, 0, 0}, f[6] = {0, 0, 0, 0, 0, 0};
-    cells.for_neighbours(x_[i], [&](int g, Vec3 image) {
-      const Vec3 r = x_[i] - image;
-      if (int(size_t(g) / per_capsule) == own && dot(r, r) < rc2)
-        stresslet_real_add_matrix(r, tri_.a[g], ew.xi, m);
-    });
+    double f[6] = {0, 0, 0, 0, 0, 0};
     for (int kk = 0; kk < nk; ++kk) {
       const double th = dot(k_[kk], x_[i]), c = std::cos(th), s = std::sin(th);
       const size_t j = size_t(own) * nk + kk;
@@ -123,15 +168,8 @@ void PeriodicDoubleLayer::setup_self_matrices(const EwaldParameters* self_ewald,
       stresslet_fourier_add_matrix(k_[kk], phi_[kk] * (s * b_re[j] + c * b_im[j]), f);
     }
     for (int c = 0; c < 6; ++c)
-      self_[c][i] = m[c] + pre * f[c];
+      self_[c][i] += pre * f[c];
   }
-  if (self_ewald)
-    SpectralStresslet(lattice_.L, ew, *self_grid)
-        .add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
-                            size_t(topo_.num_nodes), self_);
-  else if (spectral_)
-    spectral_->add_group_matrices(lattice_, tri_.y, tri_.a, per_capsule, x_,
-                                  size_t(topo_.num_nodes), self_);
 }
 
 std::vector<Vec3> PeriodicDoubleLayer::rule_densities(const std::vector<Vec3>& u) const {
@@ -146,19 +184,46 @@ std::vector<Vec3> PeriodicDoubleLayer::rule_densities(const std::vector<Vec3>& u
   return ug;
 }
 
-// sum over all rule points' images within r_cut of u_g . T^R(x_i - y_g) . a_g.
+// sum over all rule points' images within r_cut of u_g . T^R(x_i - y_g) . a_g: per node
+// the pairs are gathered from the cell runs into a buffer (branch-free compaction, as in
+// real_space_sum.cpp) and summed in one vectorised loop.
 void PeriodicDoubleLayer::add_real_space(const std::vector<Vec3>& ug,
                                          std::vector<Vec3>& sum) const {
+  // The sources in cell order: wrapped position and sym(u_g a_g^T).
+  struct Source {
+    double x, y, z, d[6];
+  };
+  std::vector<Source> src(cells_.size());
+  for (int j = 0; j < cells_.size(); ++j) {
+    const int g = cells_.point(j);
+    const Vec3 w = cells_.wrapped(j);
+    src[j] = {w.x, w.y, w.z, {}};
+    symmetric_product(ug[g], tri_.a[g], src[j].d);
+  }
   const double rc2 = ewald_.r_cut * ewald_.r_cut;
-#pragma omp parallel for schedule(dynamic, 16)
-  for (int i = 0; i < num_nodes(); ++i) {
-    Vec3 s;
-    cells_.for_neighbours(x_[i], [&](int g, Vec3 image) {
-      const Vec3 r = x_[i] - image;
-      if (dot(r, r) < rc2)
-        s += stresslet_real_apply(r, ug[g], tri_.a[g], ewald_.xi);
-    });
-    sum[i] += s;
+#pragma omp parallel
+  {
+    StressletPairBuffer b;
+    b.reserve(1024);
+#pragma omp for schedule(dynamic, 16)
+    for (int i = 0; i < num_nodes(); ++i) {
+      b.n = 0;
+      cells_.for_neighbour_runs(x_[i], [&](int begin, int end, Vec3 shift) {
+        b.reserve(2 * (b.n + size_t(end - begin)));
+        const Vec3 xs = x_[i] - shift; // x relative to the unshifted images
+        size_t m = b.n;
+        for (int j = begin; j < end; ++j) {
+          const Source& q = src[j];
+          const double rx = xs.x - q.x, ry = xs.y - q.y, rz = xs.z - q.z;
+          b.r[0][m] = rx, b.r[1][m] = ry, b.r[2][m] = rz;
+          for (int c = 0; c < 6; ++c)
+            b.d[c][m] = q.d[c];
+          m += (rx * rx + ry * ry + rz * rz < rc2) ? 1 : 0;
+        }
+        b.n = m;
+      });
+      sum[i] += stresslet_real_sum(b, ewald_.xi);
+    }
   }
 }
 
@@ -176,12 +241,11 @@ void PeriodicDoubleLayer::add_reciprocal(const std::vector<Vec3>& ug,
     for (auto& c : src.d)
       c.resize(ng);
     for (size_t g = 0; g < ng; ++g) {
-      const Vec3 u = ug[g], a = tri_.a[g];
       src.y[0][g] = tri_.y[g].x, src.y[1][g] = tri_.y[g].y, src.y[2][g] = tri_.y[g].z;
-      src.d[0][g] = u.x * a.x, src.d[1][g] = u.y * a.y, src.d[2][g] = u.z * a.z;
-      src.d[3][g] = 0.5 * (u.x * a.y + u.y * a.x);
-      src.d[4][g] = 0.5 * (u.x * a.z + u.z * a.x);
-      src.d[5][g] = 0.5 * (u.y * a.z + u.z * a.y);
+      double d[6];
+      symmetric_product(ug[g], tri_.a[g], d);
+      for (int c = 0; c < 6; ++c)
+        src.d[c][g] = d[c];
     }
     spectral_->add_reciprocal(lattice_, src, x_, sum);
     return;

@@ -99,6 +99,8 @@ private:
   void setup_near_lists();
   void setup_self_matrices(const EwaldParameters* self_ewald,
                            const SpectralParameters* self_grid);
+  void add_self_real_space(const EwaldParameters& ew);
+  void add_self_reciprocal_direct();
   std::vector<Vec3> rule_densities(const std::vector<Vec3>& u) const;
   // The far-rule sum over all points and images, real and reciprocal parts, at each node.
   void add_real_space(const std::vector<Vec3>& ug, std::vector<Vec3>& sum) const;
