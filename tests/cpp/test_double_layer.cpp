@@ -4,6 +4,7 @@
 // levels 2-4 (quoted beside each check), so that a loss of order fails.
 #include "mesh/surface_geometry.hpp"
 #include "stokes/double_layer/double_layer.hpp"
+#include "stokes/double_layer/ewald_stresslet.hpp"
 #include "stokes/double_layer/guess_history.hpp"
 #include "stokes/double_layer/second_kind_solve.hpp"
 #include "stokes/single_layer/single_layer.hpp"
@@ -213,6 +214,37 @@ TEST_CASE("double layer: a second capsule's constant density is zero at the firs
   const std::vector<Vec3> first(v.begin(), v.begin() + n), second(v.begin() + n, v.end());
   CHECK(max_error(first, std::vector<Vec3>(n, Vec3{})) < 1e-6);
   CHECK(max_error(second, std::vector<Vec3>(n, 0.5 * kConstant)) < 1e-13);
+}
+
+TEST_CASE("double layer: the near correction's matrices reproduce the correction",
+          "[double_layer]") {
+  // double_layer_near_matrices is the same quadrature as a linear map of the vertex
+  // densities: only the order of the sums differs, so they agree to rounding (1e-13 of
+  // the correction's size) for targets at, near and off a triangle, with and without a
+  // subtracted constant.
+  const Vec3 p[3] = {{0.1, 0.0, 0.02}, {0.25, 0.05, -0.01}, {0.12, 0.18, 0.03}};
+  const Vec3 q[3] = {{0.3, -1.2, 0.5}, {-0.7, 0.4, 1.1}, {0.9, 0.2, -0.6}};
+  const Vec3 a2 = area_vector2(p[0], p[1], p[2]);
+  const Vec3 n = (1.0 / norm(a2)) * a2;
+  const double area = 0.5 * norm(a2);
+  const struct {
+    Vec3 x;
+    bool is_vertex;
+  } targets[] = {{p[1], true}, {{0.15, 0.07, 0.05}, false}, {{0.0, 0.3, -0.1}, false}};
+  for (const auto& target : targets)
+    for (const Vec3 sub : {Vec3{}, Vec3{0.2, -0.3, 0.4}}) {
+      const TriangleLoad load{{p[0], p[1], p[2]}, {q[0], q[1], q[2]}};
+      const Vec3 direct = double_layer_near_correction(target.x, target.is_vertex, load,
+                                                       n, sub, area, 1.5, 8);
+      double m[3][6];
+      double_layer_near_matrices(target.x, target.is_vertex, p, n, area, 1.5, 8, m);
+      Vec3 mapped;
+      for (int v = 0; v < 3; ++v)
+        mapped += symmetric_matrix_apply(m[v], q[v] - sub);
+      INFO("target " << target.x.x << " " << target.x.y << " " << target.x.z);
+      REQUIRE(norm(direct) > 0);
+      CHECK(norm(mapped - direct) < 1e-13 * norm(direct));
+    }
 }
 
 TEST_CASE("second kind: deflation moves the rigid-body and normal eigenvalues of K to "

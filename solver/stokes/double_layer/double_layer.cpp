@@ -6,6 +6,7 @@
 #include "stokes/quadrature/near_triangles.hpp"
 #include "stokes/quadrature/triangle_sources.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace capsim {
@@ -80,6 +81,17 @@ DoubleLayer::DoubleLayer(const Topology& topo, int num_capsules,
       find_near_triangles(x_, tri_.centroid, tri_.diameter, opts.far_ratio);
   near_offset_ = near.offset;
   near_triangle_ = near.triangle;
+  near_matrix_.resize(18 * near_triangle_.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < num_nodes(); ++i)
+    for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
+      const int t = near_triangle_[p];
+      double m[3][6];
+      double_layer_near_matrices(x_[i], vertex_index(topo_, i, t) >= 0,
+                                 triangle_load(topo_, x_, x_, t).p, tri_.unit_normal[t],
+                                 tri_.area[t], opts_.near_ratio, opts_.max_depth, m);
+      std::copy(&m[0][0], &m[0][0] + 18, &near_matrix_[18 * size_t(p)]);
+    }
   // The far rule of T(x_i - y) . n over node i's own capsule (the subtracted constant's
   // factor); the near triangles' share is corrected in apply.
   const int n = num_nodes();
@@ -141,18 +153,14 @@ void DoubleLayer::apply(const std::vector<Vec3>& u, std::vector<Vec3>& k,
       double m[6];
       for (int c = 0; c < 6; ++c)
         m[c] = self_[c][i];
-      sum -= Vec3{m[0] * ui.x + m[3] * ui.y + m[4] * ui.z,
-                  m[3] * ui.x + m[1] * ui.y + m[5] * ui.z,
-                  m[4] * ui.x + m[5] * ui.y + m[2] * ui.z};
+      sum -= symmetric_matrix_apply(m, ui);
     }
     const int own = i / topo_.num_nodes;
     for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
       const int t = near_triangle_[p];
-      const bool same = t / nt_capsule == own;
-      sum += double_layer_near_correction(
-          x_[i], vertex_index(topo_, i, t) >= 0, triangle_load(topo_, x_, u, t),
-          tri_.unit_normal[t], same ? ui : Vec3{}, tri_.area[t], opts_.near_ratio,
-          opts_.max_depth);
+      sum += double_layer_near_apply(&near_matrix_[18 * size_t(p)],
+                                     triangle_load(topo_, x_, u, t).q,
+                                     t / nt_capsule == own ? ui : Vec3{});
     }
     // The subtracted constant's integral by the on-surface identity: 4 pi u(x_i).
     k[i] = (1.0 / (8.0 * kPi)) * sum + (subtract ? 0.5 : 0.0) * ui;

@@ -37,6 +37,7 @@
 // subdivision instead (for_each_adaptive_point, element_integrals.hpp), the same near
 // lists and options as the single layer.
 #include "mesh/icosphere.hpp"
+#include "stokes/double_layer/ewald_stresslet.hpp"
 #include "stokes/quadrature/element_integrals.hpp"
 #include "stokes/single_layer/single_layer.hpp"
 
@@ -69,6 +70,44 @@ CAPSIM_HD Vec3 double_layer_near_correction(Vec3 x, bool is_vertex, TriangleLoad
   for_each_rule_point(x, load, triangle_rule_3(), area,
                       [&](Vec3 r, Vec3 w) { sum -= stresslet_apply(r, w, n); });
   return sum;
+}
+
+// The same correction as a linear map of the vertex densities: m[v] (symmetric, xx, yy,
+// zz, xy, xz, yz) such that the correction is sum_v m[v] (q_v - sub). One quadrature pass
+// with a load whose q_v are the unit vectors e_v, so that each point's weighted density
+// is w (l_0, l_1, l_2) (the subdivision depends on the geometry alone): set up once per
+// geometry, the correction of every GMRES iteration is then 18 numbers a vertex pair.
+CAPSIM_HD void double_layer_near_matrices(Vec3 x, bool is_vertex, const Vec3 p[3], Vec3 n,
+                                          double area, double near_ratio, int max_depth,
+                                          double m[3][6]) {
+  const TriangleLoad load{{p[0], p[1], p[2]}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  for (int v = 0; v < 3; ++v)
+    for (int c = 0; c < 6; ++c)
+      m[v][c] = 0;
+  // u . T(r) . n = -6 (n . r)/|r|^5 (r r^T) u (stresslet_apply).
+  auto add = [&](Vec3 r, Vec3 w, double sign) {
+    const double r2 = dot(r, r), rinv = 1.0 / std::sqrt(r2);
+    const double s = -6.0 * sign * dot(n, r) * rinv * rinv * rinv * rinv * rinv;
+    const double rr[6] = {r.x * r.x, r.y * r.y, r.z * r.z,
+                          r.x * r.y, r.x * r.z, r.y * r.z};
+    const double wv[3] = {s * w.x, s * w.y, s * w.z};
+    for (int v = 0; v < 3; ++v)
+      for (int c = 0; c < 6; ++c)
+        m[v][c] += wv[v] * rr[c];
+  };
+  if (!is_vertex)
+    for_each_adaptive_point(x, load, near_ratio, max_depth,
+                            [&](Vec3 r, Vec3 w) { add(r, w, 1.0); });
+  for_each_rule_point(x, load, triangle_rule_3(), area,
+                      [&](Vec3 r, Vec3 w) { add(r, w, -1.0); });
+}
+
+// The near correction from its matrices (double_layer_near_matrices, 18 numbers, vertex
+// after vertex) and the triangle's vertex densities u: sum_v m[v] (u_v - sub).
+CAPSIM_HD Vec3 double_layer_near_apply(const double* m, const Vec3 u[3], Vec3 sub) {
+  return symmetric_matrix_apply(m, u[0] - sub) +
+         symmetric_matrix_apply(m + 6, u[1] - sub) +
+         symmetric_matrix_apply(m + 12, u[2] - sub);
 }
 
 // What the double layer's quadratures need of every triangle of M capsules (global
@@ -124,6 +163,8 @@ private:
   // xx, yy, zz, xy, xz, yz), the far part of the subtracted term.
   std::vector<double> self_[6];
   std::vector<int> near_offset_, near_triangle_; // the near lists of the nodes
+  // Per near pair the correction's matrices (double_layer_near_matrices), 18 numbers.
+  std::vector<double> near_matrix_;
 };
 
 // One-shot form: k = K[u] at the nodes of M capsules.

@@ -9,6 +9,7 @@
 #include "stokes/quadrature/near_triangle_cells.hpp"
 #include "stokes/quadrature/triangle_sources.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -50,6 +51,7 @@ PeriodicDoubleLayer::PeriodicDoubleLayer(
   for (const Vec3& k : k_)
     phi_.push_back(stresslet_fourier_screening(dot(k, k), ewald.xi));
   setup_near_lists();
+  setup_near_matrices();
   if (!self_ewald != !self_grid)
     throw std::invalid_argument(
         "PeriodicDoubleLayer: the self matrices' split needs both "
@@ -276,23 +278,38 @@ void PeriodicDoubleLayer::add_reciprocal(const std::vector<Vec3>& ug,
   }
 }
 
-// The near corrections of node i: accurate free-space integral minus 3-point rule of
-// (u - sub) . T . n over its near triangle images, sub on its own capsule's only.
+// The near corrections' matrices of every near pair: the free-space accurate integral
+// minus the 3-point rule over the triangle's image, as a map of its vertex densities.
+void PeriodicDoubleLayer::setup_near_matrices() {
+  near_matrix_.resize(18 * near_.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < num_nodes(); ++i)
+    for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
+      const int t = near_[p].triangle;
+      const Vec3 shift = near_[p].shift;
+      const bool itself = dot(shift, shift) == 0;
+      TriangleLoad load = triangle_load(topo_, x_, x_, t);
+      for (auto& v : load.p)
+        v += shift;
+      double m[3][6];
+      double_layer_near_matrices(x_[i], itself && vertex_index(topo_, i, t) >= 0, load.p,
+                                 tri_.unit_normal[t], tri_.area[t], quad_.near_ratio,
+                                 quad_.max_depth, m);
+      std::copy(&m[0][0], &m[0][0] + 18, &near_matrix_[18 * size_t(p)]);
+    }
+}
+
+// The near corrections of node i: sum over its near triangle images of their matrices
+// times (u - sub) at the vertices, sub on its own capsule's only.
 Vec3 PeriodicDoubleLayer::near_correction(int i, const std::vector<Vec3>& u,
                                           Vec3 sub) const {
   const int own = i / topo_.num_nodes, nt_capsule = int(topo_.triangles.size());
   Vec3 s;
   for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
     const int t = near_[p].triangle;
-    const Vec3 shift = near_[p].shift;
-    const bool itself = dot(shift, shift) == 0;
-    TriangleLoad load = triangle_load(topo_, x_, u, t);
-    for (auto& v : load.p)
-      v += shift;
-    s += double_layer_near_correction(x_[i], itself && vertex_index(topo_, i, t) >= 0,
-                                      load, tri_.unit_normal[t],
-                                      t / nt_capsule == own ? sub : Vec3{}, tri_.area[t],
-                                      quad_.near_ratio, quad_.max_depth);
+    s += double_layer_near_apply(&near_matrix_[18 * size_t(p)],
+                                 triangle_load(topo_, x_, u, t).q,
+                                 t / nt_capsule == own ? sub : Vec3{});
   }
   return s;
 }

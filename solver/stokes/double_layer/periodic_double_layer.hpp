@@ -13,7 +13,8 @@
 //      Tornberg 2014; SpectralStresslet, spectral_ewald.hpp), O(N P^3 + M^3 log M);
 //  - near corrections (triangle images closer than far_ratio diameters to a node): the
 //    free-space correction of double_layer_near_correction, right for every xi because
-//    T^per - T is smooth (as for the single layer, periodic_single_layer.hpp).
+//    T^per - T is smooth (as for the single layer, periodic_single_layer.hpp), set up
+//    once as matrices of the vertex densities (double_layer_near_matrices).
 // The split is exact up to the Ewald truncation whatever xi is. The cut-offs are those
 // of the single layer's EwaldParameters (choose_ewald_parameters): the stresslet's real
 // terms decay like erfc(x) + 2x/sqrt(pi) (1 + 2x^2/3) exp(-x^2) relative to T, its
@@ -97,6 +98,7 @@ private:
   };
 
   void setup_near_lists();
+  void setup_near_matrices();
   void setup_self_matrices(const EwaldParameters* self_ewald,
                            const SpectralParameters* self_grid);
   void add_self_real_space(const EwaldParameters& ew);
@@ -127,6 +129,9 @@ private:
   std::vector<double> self_[6];
   std::vector<int> near_offset_;
   std::vector<NearImage> near_;
+  // Per near pair the correction's matrices of its triangle's three vertex densities
+  // (double_layer_near_matrices), 18 numbers.
+  std::vector<double> near_matrix_;
 };
 
 // One-shot form: k = K[u] at the nodes of M capsules in the periodic box.
