@@ -122,28 +122,45 @@ def flat_options(options, prefix=""):
     return out
 
 
+DENSE_COST_RECORDS = ("viscosity_ratio_cost_dense.json",       # M 8, level 2
+                      "viscosity_ratio_cost_dense_M27.json")   # M 27, level 3
+
+
 @functools.cache
-def _lambda_cost_ratios(dense):
-    name = "viscosity_ratio_cost_dense.json" if dense else "viscosity_ratio_cost.json"
-    record = json.loads((ROOT / "benchmarks" / "records" / name).read_text())
-    return {(c["mesh_level"], c["lambda"]): c["cost_ratio"] for c in record["cases"]
-            if all(v for k, v in c.items() if k.startswith("default_"))}
+def _lambda_cost_ratios(dense, tolerance=None):
+    """(level, lambda): the measured cost ratio of the benchmark's records at capsim's
+    defaults, or where the records measured it at gmres.tolerance `tolerance` (the
+    guess and the time scheme the defaults), that case."""
+    names = DENSE_COST_RECORDS if dense else ("viscosity_ratio_cost.json",)
+    cases = [c for name in names for c in
+             json.loads((ROOT / "benchmarks" / "records" / name).read_text())["cases"]]
+
+    def defaults(c, but=()):
+        return all(v for k, v in c.items() if k.startswith("default_") and k not in but)
+
+    table = {(c["mesh_level"], c["lambda"]): c["cost_ratio"] for c in cases if defaults(c)}
+    if tolerance is not None:
+        table |= {(c["mesh_level"], c["lambda"]): c["cost_ratio"] for c in cases
+                  if defaults(c, but=("default_tolerance",))
+                  and math.isclose(c["gmres_tolerance"], tolerance)}
+    return table
 
 
-def lambda_cost_ratio(level, ratio, dense):
+def lambda_cost_ratio(level, ratio, dense, tolerance=None):
     """A capsule-strain's cost at viscosity ratio `ratio` over lambda 1's, from the
-    benchmark's records (benchmarks/records/viscosity_ratio_cost.json, one capsule, and
-    _dense.json, M 8 at phi 0.3): the measured case at the nearest level and the nearest
-    ratio on the same side of 1; one capsule's doubled a level up and halved a level
-    down (measured: 1.75 times from level 2 to 3), a suspension's as measured (the
-    periodic sums of both layers grow alike with the mesh; not measured at level 3)."""
+    benchmark's records (benchmarks/records/viscosity_ratio_cost.json, one capsule;
+    _dense.json, M 8 at phi 0.3, level 2; _dense_M27.json, M 27 at phi 0.3, level 3,
+    gmres.tolerance 1e-5, the dense study's): the measured case at the nearest level and
+    the nearest ratio on the same side of 1, at gmres.tolerance `tolerance` where
+    measured; one capsule's doubled a level up and halved a level down (measured: 1.75
+    times from level 2 to 3), a suspension's as measured."""
     if ratio == 1.0:
         return 1.0
-    table = _lambda_cost_ratios(dense)
-    near = min({lev for lev, _ in table}, key=lambda lev: abs(lev - level))
-    side = [lam for lev, lam in table
-            if lev == near and lam != 1.0 and (lam < 1.0) == (ratio < 1.0)]
-    lam = min(side, key=lambda v: abs(math.log(v / ratio)))
+    table = _lambda_cost_ratios(dense, tolerance)
+    side = [(lev, lam) for lev, lam in table
+            if lam != 1.0 and (lam < 1.0) == (ratio < 1.0)]
+    near = min({lev for lev, _ in side}, key=lambda lev: abs(lev - level))
+    lam = min((v for lev, v in side if lev == near), key=lambda v: abs(math.log(v / ratio)))
     return table[(near, lam)] * (1.0 if dense else 2.0 ** (level - near))
 
 
@@ -333,8 +350,11 @@ class RunSpec:
             for name, then in FORMER_DEFAULTS.items())
         rkc3 = option_value(given.get("time.scheme", "")) == "rkc" and \
             str(option_value(given.get("time.stages", ""))) == "3"
+        tolerance = given.get("gmres.tolerance")
         solved = lambda_cost_ratio(self.level, float(option_value(given.get("lambda", 1))),
-                                   dense=not self.dilute)
+                                   dense=not self.dilute,
+                                   tolerance=None if tolerance is None
+                                   else float(option_value(tolerance)))
         return (base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
                 * (0.57 if rkc3 else 1.0) * solved)
 

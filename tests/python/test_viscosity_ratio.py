@@ -16,6 +16,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import pandas as pd
 import pytest
+import yaml
 
 from analysis import viscosity_ratio as vr
 from analysis.read_run import read_summary
@@ -219,8 +220,13 @@ def test_the_results_page_section(results, tmp_path):
     assert "![The viscosity ratio](" in text and (tmp_path / "viscosity_ratio.png").exists()
     dense = [line for line in lines if "once all its runs are archived" in line]
     assert len(dense) == 1 and "Ca 0.2, phi 0.1-0.3, M = 27" in dense[0]
-    ratio = run_spec.lambda_cost_ratio(2, 5.0, dense=True)
-    assert f"costs {ratio:.0f} times lambda = 1" in dense[0]
+    # The study's cost from the benchmark at its own scale and tolerance.
+    record = json.loads((ROOT / "benchmarks" / "records" /
+                         "viscosity_ratio_cost_dense_M27.json").read_text())
+    measured = {c["lambda"]: c["cost_ratio"] for c in record["cases"]
+                if c["mesh_level"] == 3 and c["gmres_tolerance"] == 1e-5}
+    assert f"costs {measured[5.0]:.0f} times and at lambda 0.2 {measured[0.2]:.0f} " \
+        "times lambda = 1" in dense[0]
 
 
 # The dense part: the grid's suspension at other ratios.
@@ -236,6 +242,36 @@ def test_a_dense_run_is_the_grid_s_suspension_with_lambda_and_the_block_s_option
     assert (spec.M, spec.t_end, spec.t_avg_start) == (27, 30, 10)
     with pytest.raises(ValueError, match="lambda 1 is the grid's own run"):
         run_spec.viscosity_ratio_dense(keys, 1, grid, 10, {})
+
+
+def test_a_dense_run_s_cost_is_the_benchmark_s_at_its_scale_and_tolerance():
+    # The benchmark's M 27, level 3 cases at gmres.tolerance 1e-5 price the dense study's
+    # runs; a run at the default tolerance takes the M 8, level 2 cases at the defaults.
+    keys = dict(ca=0.2, phi=0.3, M=27, level=3, seed=1)
+    record = json.loads((ROOT / "benchmarks" / "records" /
+                         "viscosity_ratio_cost_dense_M27.json").read_text())
+    at_1e5 = {c["lambda"]: c["cost_ratio"] for c in record["cases"]
+              if c["gmres_tolerance"] == 1e-5 and c.get("default_guess")}
+    small = json.loads((ROOT / "benchmarks" / "records" /
+                        "viscosity_ratio_cost_dense.json").read_text())
+    defaults = {c["lambda"]: c["cost_ratio"] for c in small["cases"]
+                if c.get("default_tolerance") and c.get("default_guess")}
+    for ratio in (0.2, 5.0):
+        assert run_spec.lambda_cost_ratio(3, ratio, dense=True, tolerance=1e-5) == \
+            pytest.approx(at_1e5[ratio])
+        assert run_spec.lambda_cost_ratio(3, ratio, dense=True) == \
+            pytest.approx(defaults[ratio])
+    study = run_spec.viscosity_ratio_dense(keys, 5, {"t_end": 30}, 10, {},
+                                           {"gmres.tolerance": 1e-5})
+    unsolved = run_spec.viscosity_ratio_dense(keys, 5, {"t_end": 30}, 10, {}, {})
+    assert study.seconds_per_strain() / unsolved.seconds_per_strain() == pytest.approx(
+        at_1e5[5.0] / defaults[5.0])
+
+
+def test_the_page_s_dense_tolerance_is_the_configuration_s():
+    config = yaml.safe_load((ROOT / "config" / "quantitative.yaml").read_text())
+    options = config["viscosity_ratio"]["dense"]["options"]
+    assert float(options["gmres.tolerance"]) == results_page.DENSE_TOLERANCE
 
 
 @needs_snakemake
