@@ -167,7 +167,7 @@ def reference_lines(results, numbers):
 
 
 # The dense study's GMRES tolerance (config/quantitative.yaml, viscosity_ratio.dense).
-DENSE_TOLERANCE = 1e-5
+DENSE_TOLERANCE, DENSE_TOLERANCE_TEXT = 1e-5, "1e-5"
 
 
 def dense_cost_ratio(ratio):
@@ -198,7 +198,7 @@ def viscosity_ratio_lines(results, figure_dir):
             "all its runs are archived (`docs/suspensions.md` has those that are): at "
             f"lambda 5 it costs {dense_cost_ratio(5.0):.0f} times and at lambda 0.2 "
             f"{dense_cost_ratio(0.2):.0f} times lambda = 1 a strain (M = 27, level 3, "
-            f"phi 0.3, gmres.tolerance {DENSE_TOLERANCE:g}, over a strain from rest: "
+            f"phi 0.3, gmres.tolerance {DENSE_TOLERANCE_TEXT}, over 0.3 strain from rest: "
             "`benchmarks/records/viscosity_ratio_cost_dense_M27.json`, `docs/method.md`).",
             ""]
     return lines + [
