@@ -272,7 +272,6 @@ def test_the_page_s_dense_tolerance_is_the_configuration_s():
     config = yaml.safe_load((ROOT / "config" / "quantitative.yaml").read_text())
     options = config["viscosity_ratio"]["dense"]["options"]
     assert float(options["gmres.tolerance"]) == results_page.DENSE_TOLERANCE
-    assert float(results_page.DENSE_TOLERANCE_TEXT) == results_page.DENSE_TOLERANCE
 
 
 @needs_snakemake

@@ -82,6 +82,26 @@ public:
     });
   }
 
+  // Gathers the images within sqrt(rc2) of x into buffer b (b.n: how many;
+  // b.make_room(m): room for m pairs, the first b.n kept): for every candidate j in cell
+  // order, put(m, j, xs) writes slot m of b from x relative to the unshifted images, xs
+  // (so x - image = xs - wrapped(j)), and returns the squared separation; only those
+  // within reach advance m. Branch-free compaction: every candidate is written, which
+  // keeps the loop free of unpredictable branches (the pair sums then run one vectorised
+  // loop over b).
+  template <class Buffer, class Put>
+  void gather_within(Vec3 x, double rc2, Buffer& b, Put put) const {
+    b.n = 0;
+    for_neighbour_runs(x, [&](int begin, int end, Vec3 shift) {
+      b.make_room(b.n + size_t(end - begin));
+      const Vec3 xs = x - shift;
+      size_t m = b.n;
+      for (int j = begin; j < end; ++j)
+        m += put(m, j, xs) < rc2 ? 1 : 0;
+      b.n = m;
+    });
+  }
+
   int size() const { return int(index_.size()); }
   int point(int j) const { return index_[j]; }             // the j-th point in cell order
   const Vec3& wrapped(int j) const { return wrapped_[j]; } // and its wrapped position

@@ -66,6 +66,20 @@ DoubleLayerTriangles double_layer_triangles(const Topology& topo, int num_capsul
   return tri;
 }
 
+void double_layer_near_pair_matrices(const Topology& topo, const std::vector<Vec3>& x,
+                                     const DoubleLayerTriangles& tri,
+                                     const QuadratureOptions& opts, int i, int t,
+                                     Vec3 shift, double* m) {
+  TriangleLoad load = triangle_load(topo, x, x, t);
+  for (auto& v : load.p)
+    v += shift;
+  const bool own_vertex = dot(shift, shift) == 0 && vertex_index(topo, i, t) >= 0;
+  double mv[3][6];
+  double_layer_near_matrices(x[i], own_vertex, load.p, tri.unit_normal[t], tri.area[t],
+                             opts.near_ratio, opts.max_depth, mv);
+  std::copy(&mv[0][0], &mv[0][0] + 18, m);
+}
+
 DoubleLayer::DoubleLayer(const Topology& topo, int num_capsules,
                          const std::vector<Vec3>& x, const QuadratureOptions& opts)
     : topo_(topo), num_capsules_(num_capsules), x_(x), opts_(opts),
@@ -84,14 +98,9 @@ DoubleLayer::DoubleLayer(const Topology& topo, int num_capsules,
   near_matrix_.resize(18 * near_triangle_.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < num_nodes(); ++i)
-    for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
-      const int t = near_triangle_[p];
-      double m[3][6];
-      double_layer_near_matrices(x_[i], vertex_index(topo_, i, t) >= 0,
-                                 triangle_load(topo_, x_, x_, t).p, tri_.unit_normal[t],
-                                 tri_.area[t], opts_.near_ratio, opts_.max_depth, m);
-      std::copy(&m[0][0], &m[0][0] + 18, &near_matrix_[18 * size_t(p)]);
-    }
+    for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p)
+      double_layer_near_pair_matrices(topo_, x_, tri_, opts_, i, near_triangle_[p],
+                                      Vec3{}, &near_matrix_[18 * size_t(p)]);
   // The far rule of T(x_i - y) . n over node i's own capsule (the subtracted constant's
   // factor); the near triangles' share is corrected in apply.
   const int n = num_nodes();

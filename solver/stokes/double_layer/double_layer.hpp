@@ -124,6 +124,15 @@ struct DoubleLayerTriangles {
 DoubleLayerTriangles double_layer_triangles(const Topology& topo, int num_capsules,
                                             const std::vector<Vec3>& x);
 
+// The near correction's matrices (double_layer_near_matrices, 18 numbers into m) of
+// node i of x (as above) and the image of triangle t moved by `shift` (a lattice vector;
+// exactly zero for the triangle itself, of which node i may be a vertex). Shared by the
+// free-space and the periodic double layer's set-up.
+void double_layer_near_pair_matrices(const Topology& topo, const std::vector<Vec3>& x,
+                                     const DoubleLayerTriangles& tri,
+                                     const QuadratureOptions& opts, int i, int t,
+                                     Vec3 shift, double* m);
+
 // The double layer of one geometry, set up once and applied to many densities (the
 // GMRES iterations of second_kind_solve.hpp share one geometry).
 class DoubleLayer {

@@ -10,6 +10,7 @@
 #include "stokes/quadrature/triangle_sources.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -122,18 +123,11 @@ void PeriodicDoubleLayer::add_self_real_space(const EwaldParameters& ew) {
       b.reserve(1024);
 #pragma omp for schedule(dynamic, 16)
       for (int i = c * topo_.num_nodes; i < (c + 1) * topo_.num_nodes; ++i) {
-        b.n = 0;
-        cells.for_neighbour_runs(x_[i], [&](int begin, int end, Vec3 shift) {
-          b.reserve(2 * (b.n + size_t(end - begin)));
-          const Vec3 xs = x_[i] - shift;
-          size_t m = b.n;
-          for (int j = begin; j < end; ++j) {
-            const Vec3 r = xs - cells.wrapped(j);
-            b.rx[m] = r.x, b.ry[m] = r.y, b.rz[m] = r.z;
-            b.fx[m] = a[j].x, b.fy[m] = a[j].y, b.fz[m] = a[j].z;
-            m += dot(r, r) < rc2 ? 1 : 0;
-          }
-          b.n = m;
+        cells.gather_within(x_[i], rc2, b, [&](size_t m, int j, Vec3 xs) {
+          const Vec3 r = xs - cells.wrapped(j);
+          b.rx[m] = r.x, b.ry[m] = r.y, b.rz[m] = r.z;
+          b.fx[m] = a[j].x, b.fy[m] = a[j].y, b.fz[m] = a[j].z;
+          return dot(r, r);
         });
         double m[6] = {0, 0, 0, 0, 0, 0};
         stresslet_real_matrix_sum(b, ew.xi, m);
@@ -187,20 +181,15 @@ std::vector<Vec3> PeriodicDoubleLayer::rule_densities(const std::vector<Vec3>& u
 }
 
 // sum over all rule points' images within r_cut of u_g . T^R(x_i - y_g) . a_g: per node
-// the pairs are gathered from the cell runs into a buffer (branch-free compaction, as in
-// real_space_sum.cpp) and summed in one vectorised loop.
+// the pairs are gathered from the cell runs into a buffer and summed in one vectorised
+// loop.
 void PeriodicDoubleLayer::add_real_space(const std::vector<Vec3>& ug,
                                          std::vector<Vec3>& sum) const {
-  // The sources in cell order: wrapped position and sym(u_g a_g^T).
-  struct Source {
-    double x, y, z, d[6];
-  };
-  std::vector<Source> src(cells_.size());
+  // sym(u_g a_g^T) of the sources in cell order.
+  std::vector<std::array<double, 6>> d(cells_.size());
   for (int j = 0; j < cells_.size(); ++j) {
     const int g = cells_.point(j);
-    const Vec3 w = cells_.wrapped(j);
-    src[j] = {w.x, w.y, w.z, {}};
-    symmetric_product(ug[g], tri_.a[g], src[j].d);
+    symmetric_product(ug[g], tri_.a[g], d[j].data());
   }
   const double rc2 = ewald_.r_cut * ewald_.r_cut;
 #pragma omp parallel
@@ -209,20 +198,12 @@ void PeriodicDoubleLayer::add_real_space(const std::vector<Vec3>& ug,
     b.reserve(1024);
 #pragma omp for schedule(dynamic, 16)
     for (int i = 0; i < num_nodes(); ++i) {
-      b.n = 0;
-      cells_.for_neighbour_runs(x_[i], [&](int begin, int end, Vec3 shift) {
-        b.reserve(2 * (b.n + size_t(end - begin)));
-        const Vec3 xs = x_[i] - shift; // x relative to the unshifted images
-        size_t m = b.n;
-        for (int j = begin; j < end; ++j) {
-          const Source& q = src[j];
-          const double rx = xs.x - q.x, ry = xs.y - q.y, rz = xs.z - q.z;
-          b.r[0][m] = rx, b.r[1][m] = ry, b.r[2][m] = rz;
-          for (int c = 0; c < 6; ++c)
-            b.d[c][m] = q.d[c];
-          m += (rx * rx + ry * ry + rz * rz < rc2) ? 1 : 0;
-        }
-        b.n = m;
+      cells_.gather_within(x_[i], rc2, b, [&](size_t m, int j, Vec3 xs) {
+        const Vec3 r = xs - cells_.wrapped(j);
+        b.r[0][m] = r.x, b.r[1][m] = r.y, b.r[2][m] = r.z;
+        for (int c = 0; c < 6; ++c)
+          b.d[c][m] = d[j][c];
+        return dot(r, r);
       });
       sum[i] += stresslet_real_sum(b, ewald_.xi);
     }
@@ -284,19 +265,9 @@ void PeriodicDoubleLayer::setup_near_matrices() {
   near_matrix_.resize(18 * near_.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < num_nodes(); ++i)
-    for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p) {
-      const int t = near_[p].triangle;
-      const Vec3 shift = near_[p].shift;
-      const bool itself = dot(shift, shift) == 0;
-      TriangleLoad load = triangle_load(topo_, x_, x_, t);
-      for (auto& v : load.p)
-        v += shift;
-      double m[3][6];
-      double_layer_near_matrices(x_[i], itself && vertex_index(topo_, i, t) >= 0, load.p,
-                                 tri_.unit_normal[t], tri_.area[t], quad_.near_ratio,
-                                 quad_.max_depth, m);
-      std::copy(&m[0][0], &m[0][0] + 18, &near_matrix_[18 * size_t(p)]);
-    }
+    for (int p = near_offset_[i]; p < near_offset_[i + 1]; ++p)
+      double_layer_near_pair_matrices(topo_, x_, tri_, quad_, i, near_[p].triangle,
+                                      near_[p].shift, &near_matrix_[18 * size_t(p)]);
 }
 
 // The near corrections of node i: sum over its near triangle images of their matrices

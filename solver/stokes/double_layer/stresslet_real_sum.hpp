@@ -26,6 +26,11 @@ struct StressletPairBuffer {
         v.resize(m);
     }
   }
+  // Room for at least m pairs, doubling (PeriodicCells::gather_within).
+  void make_room(size_t m) {
+    if (m > r[0].size())
+      reserve(2 * m);
+  }
 };
 
 // sum_j u_j,i T^R_ijk(r_j) a_j,k (ewald_stresslet.hpp (2)) over the buffer's pairs: the

@@ -19,6 +19,11 @@ template <class T> struct BasicPairBuffer {
       for (auto* v : {&rx, &ry, &rz, &fx, &fy, &fz})
         v->resize(m);
   }
+  // Room for at least m pairs, doubling (PeriodicCells::gather_within).
+  void make_room(size_t m) {
+    if (m > rx.size())
+      reserve(2 * m);
+  }
   void push(Vec3 r, Vec3 f) {
     if (__builtin_expect(n == rx.size(), 0))
       grow();

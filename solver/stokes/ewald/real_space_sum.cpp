@@ -88,22 +88,12 @@ long add_real_space_sum_in(const ShearedLattice& lattice, const FarSources& s,
 #pragma omp for schedule(dynamic, 16)
     for (long i = 0; i < n; ++i) {
       const Vec3 x = targets[i];
-      b.n = 0;
-      cells.for_neighbour_runs(x, [&](int begin, int end, Vec3 shift) {
-        if (b.n + size_t(end - begin) > b.rx.size())
-          b.reserve(2 * (b.n + size_t(end - begin)));
-        const Vec3 xs = x - shift; // x relative to the unshifted images
-        size_t m = b.n;
-        // Branch-free compaction: every candidate is written, only those within r_cut
-        // advance the count.
-        for (int j = begin; j < end; ++j) {
-          const SortedSource<T>& q = src.p[j];
-          const double rx = xs.x - q.x, ry = xs.y - q.y, rz = xs.z - q.z;
-          b.rx[m] = T(rx), b.ry[m] = T(ry), b.rz[m] = T(rz);
-          b.fx[m] = q.fx, b.fy[m] = q.fy, b.fz[m] = q.fz;
-          m += (rx * rx + ry * ry + rz * rz < rc2) ? 1 : 0;
-        }
-        b.n = m;
+      cells.gather_within(x, rc2, b, [&](size_t m, int j, Vec3 xs) {
+        const SortedSource<T>& q = src.p[j];
+        const double rx = xs.x - q.x, ry = xs.y - q.y, rz = xs.z - q.z;
+        b.rx[m] = T(rx), b.ry[m] = T(ry), b.rz[m] = T(rz);
+        b.fx[m] = q.fx, b.fy[m] = q.fy, b.fz[m] = q.fz;
+        return rx * rx + ry * ry + rz * rz;
       });
       u[i] += screened_sum(b.n, b.rx.data(), b.ry.data(), b.rz.data(), b.fx.data(),
                            b.fy.data(), b.fz.data(), T(ewald.xi));
