@@ -26,6 +26,10 @@ from analysis.snapshots import last_snapshot
 BAND = 0.3  # |z - z_c| below this many equivalent radii: the nodes of the orbit
 HARMONICS = 4  # of the fit of omega(theta); the ellipse's is the second
 GRID = 720  # points of the orbit's integral
+# omega within this fraction of its largest |omega| counts as zero: where the orbit only
+# touches zero (the undeformed sphere at t = 0, omega = -sin^2 theta), rounding of the
+# velocities decides its sign there (1e-13 of the largest seen).
+ZERO = 1e-8
 
 
 def angular_velocity(nodes, velocity):
@@ -50,12 +54,13 @@ def fourier_design(theta, harmonics=HARMONICS):
 def frequency(nodes, velocity):
     """The tank-treading frequency 2 pi / T of one capsule, over gammadot, positive
     (the membrane turns with the vorticity, clockwise in the shear plane of v = (y, 0,
-    0)). NaN where omega changes sign on the orbit (no tank-treading: a swinging or
-    tumbling capsule, or no steady state)."""
+    0)). NaN where omega changes sign on the orbit or reaches zero (no tank-treading: a
+    swinging or tumbling capsule, or no steady state)."""
     theta, omega = angular_velocity(np.asarray(nodes, float), np.asarray(velocity, float))
     coef, *_ = np.linalg.lstsq(fourier_design(theta), omega, rcond=None)
     orbit = fourier_design(np.linspace(-np.pi, np.pi, GRID, endpoint=False)) @ coef
-    if np.any(orbit >= 0) and np.any(orbit <= 0):
+    zero = ZERO * np.max(np.abs(orbit))
+    if np.any(orbit >= -zero) and np.any(orbit <= zero):
         return float("nan")
     return float(1.0 / np.mean(1.0 / np.abs(orbit)))
 

@@ -4,6 +4,7 @@ frequency equals the one measured from the nodes' own turns in frequent snapshot
 
 import math
 
+import numpy as np
 import pytest
 
 from analysis import snapshots, tank_treading
@@ -20,6 +21,26 @@ def test_a_nearly_rigid_capsule_turns_at_half_the_shear_rate(capsim_run):
     # At t = 0 the sphere moves with the shear flow: no orbit, no frequency.
     first = snapshots.read_snapshot(snapshots.snapshot_files(run)[0])
     assert math.isnan(tank_treading.frequency(first["nodes"], first["velocity"]))
+
+
+def test_an_orbit_that_only_touches_zero_has_no_frequency_whatever_the_rounding():
+    # The sphere in the undisturbed shear flow: omega = -sin^2 theta reaches zero at
+    # theta = 0 and pi, where velocities rounded by 1e-16 either way decide its sign.
+    rng = np.random.default_rng(1)
+    theta = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    nodes = np.column_stack([np.cos(theta), np.sin(theta), np.zeros_like(theta)])
+    for _ in range(20):
+        velocity = np.column_stack([nodes[:, 1], np.zeros_like(theta),
+                                    np.zeros_like(theta)])
+        velocity += 1e-16 * rng.standard_normal(velocity.shape)
+        assert math.isnan(tank_treading.frequency(nodes, velocity))
+    # A tank-treading orbit, omega = -(1/2 + sin^2 theta / 4) < 0: its harmonic mean.
+    omega = 0.5 + 0.25 * np.sin(theta) ** 2
+    velocity = np.column_stack([omega * nodes[:, 1], -omega * nodes[:, 0],
+                                np.zeros_like(theta)])
+    assert tank_treading.frequency(nodes, velocity) == pytest.approx(
+        1 / np.mean(1 / (0.5 + 0.25 * np.sin(np.linspace(-np.pi, np.pi, 720,
+                                                          endpoint=False)) ** 2)))
 
 
 def test_the_velocity_frequency_is_the_nodes_turning_rate(capsim_run):
