@@ -38,9 +38,9 @@ def test_an_orbit_that_only_touches_zero_has_no_frequency_whatever_the_rounding(
     omega = 0.5 + 0.25 * np.sin(theta) ** 2
     velocity = np.column_stack([omega * nodes[:, 1], -omega * nodes[:, 0],
                                 np.zeros_like(theta)])
+    grid = np.linspace(-np.pi, np.pi, tank_treading.GRID, endpoint=False)
     assert tank_treading.frequency(nodes, velocity) == pytest.approx(
-        1 / np.mean(1 / (0.5 + 0.25 * np.sin(np.linspace(-np.pi, np.pi, 720,
-                                                          endpoint=False)) ** 2)))
+        1 / np.mean(1 / (0.5 + 0.25 * np.sin(grid) ** 2)))
 
 
 def test_the_velocity_frequency_is_the_nodes_turning_rate(capsim_run):
