@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Runs every test: sets up and builds (scripts/setup.sh), then the CUDA backend's self-test
-# on the CPU (the device code in a host-emulation build, build-emulate/), the C++ suite
-# under the address and undefined-behaviour sanitizers (build-sanitize/), the C++ suite
-# with ctest, the SLURM profile on a one-node SLURM started on this machine
-# (tests/python/test_slurm.py, as root) and the rest of the Python suite with pytest. All
-# five always run; pytest's summary is the last line. Exits non-zero if setup or any of
-# them failed.
+# Runs every test: sets up and builds (scripts/setup.sh), then builds the C++ suite with
+# the address and undefined-behaviour sanitizers and the CUDA backend in host emulation
+# (build-sanitize/), runs the CUDA backend's self-test on the CPU with that build's capsim
+# and the C++ suite under the sanitizers, then the C++ suite with ctest and the Python
+# suite with pytest (the SLURM profile on a one-node SLURM started on this machine, as
+# root, included). All parts always run; pytest's summary is the last line. Exits
+# non-zero if setup or any of them failed.
 #
 # Environment: CAPSIM_JOBS=N (parallel build and test jobs, default 2),
 #              CAPSIM_TEST_TIMEOUT=S (default per-test limit in seconds for ctest, 900).
@@ -33,33 +33,37 @@ configure_variant() {
   }
 }
 
-# The CUDA backend built with CAPSIM_CUDA=EMULATE (kernels run as loops on the CPU,
-# docs/gpu.md): only the capsim executable, then its comparison with the CPU backend.
-emulated_device_selftest() {
-  local dir=build-emulate
-  configure_variant "$dir" -DCAPSIM_CUDA=EMULATE -DCAPSIM_TESTS=OFF || return 1
-  cmake --build "$dir" --target capsim --parallel "$JOBS" || return 1
-  "$dir/capsim" selftest --backend cuda
-}
-
-# The C++ suite built with AddressSanitizer and UndefinedBehaviorSanitizer (CAPSIM_SANITIZE,
-# build-sanitize/, no CUDA, no benchmarks); any report fails its test. The slowest tests
-# (about 200 s each under the sanitizers; the capsules at lambda != 1 to steady state, the
-# drops against Taylor and the periodic deflated solve, hundreds of GMRES solves or long
-# Ewald sums) run in the plain suite only; the IMEX, relaxation, second-kind, periodic
-# double-layer and drop paths they take are covered by faster tests here. Built at -O1 (the level the
-# sanitizers' authors advise) as a unity build: about 200 s instead of 470 s at -O3 file by
-# file on 2 cores, for the same test time.
-sanitized_suite() {
+# The C++ suite and capsim built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (CAPSIM_SANITIZE, build-sanitize/, no benchmarks) and the CUDA backend in host emulation
+# (CAPSIM_CUDA=EMULATE: its kernels run as loops on the CPU, docs/gpu.md), so that the
+# device code runs under the sanitizers too and one build serves both parts (a build of
+# its own for the emulation cost about 4 minutes of CI). Built at -O1 (the level the
+# sanitizers' authors advise) as a unity build: about 200 s instead of 470 s at -O3 file
+# by file on 2 cores, for the same test time.
+sanitized_build() {
   local dir=build-sanitize
-  configure_variant "$dir" -DCAPSIM_SANITIZE=ON -DCAPSIM_CUDA=OFF -DCMAKE_UNITY_BUILD=ON \
+  configure_variant "$dir" -DCAPSIM_SANITIZE=ON -DCAPSIM_CUDA=EMULATE -DCMAKE_UNITY_BUILD=ON \
     "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" || return 1
   cmake --build "$dir" --parallel "$JOBS" >"$dir/build.log" 2>&1 || {
     tail -50 "$dir/build.log" >&2
     return 1
   }
+}
+
+# The CUDA backend's device code against the CPU backend (capsim selftest), emulated.
+emulated_device_selftest() {
   LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp" \
-    ctest_suite "$dir" -E "relaxes to a sphere, energy decreasing|converges at second order|capsule at lambda|drop: .*Taylor|deflated solve is the equation"
+    build-sanitize/capsim selftest --backend cuda
+}
+
+# The C++ suite under the sanitizers; any report fails its test. The slowest tests (about
+# 200 s each under the sanitizers; the capsules at lambda != 1 to steady state, the drops
+# against Taylor and the periodic deflated solve, hundreds of GMRES solves or long Ewald
+# sums) run in the plain suite only; the IMEX, relaxation, second-kind, periodic
+# double-layer and drop paths they take are covered by faster tests here.
+sanitized_suite() {
+  LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp" \
+    ctest_suite build-sanitize -E "relaxes to a sphere, energy decreasing|converges at second order|capsule at lambda|drop: .*Taylor|deflated solve is the equation"
 }
 
 # The C++ suite of build folder $1 (extra ctest arguments after it). --no-tests=error: an
@@ -90,36 +94,34 @@ run_part() {
   return "$rc"
 }
 
-# The SLURM profile against a real one-node SLURM (slurmctld, slurmd, munge) that the test
-# starts on this machine and stops again: a part of its own, so that its time shows. It
-# fails, saying why, where the daemons cannot start (not root, not installed, a slurm.conf
-# of the machine's own).
-slurm_suite() {
-  .venv/bin/python -m pytest tests/python/test_slurm.py -v -s
-}
-
 bash scripts/setup.sh
 
-emulate_rc=0
-run_part "CUDA backend emulated on the CPU (build-emulate/, capsim selftest --backend cuda)" \
-  emulated_device_selftest || emulate_rc=$?
 sanitize_rc=0
-run_part "C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)" \
-  sanitized_suite || sanitize_rc=$?
+emulate_rc=0
+if run_part "build-sanitize/ (AddressSanitizer, UndefinedBehaviorSanitizer, CUDA backend emulated)" \
+  sanitized_build; then
+  run_part "CUDA backend emulated on the CPU (build-sanitize/capsim selftest --backend cuda)" \
+    emulated_device_selftest || emulate_rc=$?
+  run_part "C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)" \
+    sanitized_suite || sanitize_rc=$?
+else
+  sanitize_rc=1
+  emulate_rc=1
+fi
 ctest_rc=0
 run_part "C++ suite (ctest)" ctest_suite build || ctest_rc=$?
-slurm_rc=0
-run_part "SLURM profile on a one-node SLURM (tests/python/test_slurm.py)" slurm_suite ||
-  slurm_rc=$?
-
-echo "test: Python suite (pytest)"
+# The Python suite, the SLURM profile on a one-node SLURM that tests/python/test_slurm.py
+# starts on this machine (as root) and stops again included: it fails, saying why, where
+# the daemons cannot start (not root, not installed, a slurm.conf of the machine's own).
+# It shares the local ci workflow with test_workflow_ci.py (conftest.py's ci_workflow);
+# the slowest tests' times are listed before the summary.
+echo "test: Python suite (pytest, the SLURM profile included)"
 pytest_rc=0
 # Exit code 5 (no tests collected) counts as a failure like any other non-zero code.
-.venv/bin/python -m pytest tests/python -q --ignore=tests/python/test_slurm.py || pytest_rc=$?
+.venv/bin/python -m pytest tests/python -q --durations=12 || pytest_rc=$?
 
 # Nothing is printed after this point, so pytest's summary stays the last line.
 if [ "$ctest_rc" -ne 0 ]; then exit "$ctest_rc"; fi
 if [ "$emulate_rc" -ne 0 ]; then exit "$emulate_rc"; fi
 if [ "$sanitize_rc" -ne 0 ]; then exit "$sanitize_rc"; fi
-if [ "$slurm_rc" -ne 0 ]; then exit "$slurm_rc"; fi
 exit "$pytest_rc"

@@ -4,7 +4,7 @@
 // a stretched capsule in quiescent fluid relaxes.
 #include "common/choice.hpp"
 #include "membrane/bending.hpp"
-#include "membrane/neo_hookean_hessian.hpp"
+#include "membrane/hessian_part.hpp"
 #include "membrane/surface_tension.hpp"
 #include "membrane/tension_field.hpp"
 #include "mesh/icosphere.hpp"

@@ -16,10 +16,10 @@
 //   d^2 W = c (f''(L1) dL1 dL1^T + f'(L1) d^2 L1).
 // Slack: 0. The relaxed energy is C1, so its Hessian jumps across the region borders; a
 // W-method (the imex scheme) keeps its order with any Jacobian.
+#include "membrane/hessian_part.hpp"
 #include "membrane/tension_field.hpp"
 
 #include <Eigen/Dense>
-#include <Eigen/Eigenvalues>
 
 namespace capsim {
 
@@ -114,11 +114,9 @@ inline Matrix6 membrane_edge_hessian(const ElementReference& ref, double gs,
 // of 0.04-0.06 blew up within 1.4 strain units). Without the negative part the growing
 // modes are left to the explicit part, which follows them at their own rate, and the
 // Rosenbrock-W step keeps its order, which holds for any J (docs/method.md).
-inline Matrix6 positive_part(const Matrix6& h) {
-  const Eigen::SelfAdjointEigenSolver<Matrix6> eig(h);
-  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
-         eig.eigenvectors().transpose();
-}
+// Compiled once (neo_hookean_hessian.cpp): Eigen's eigensolver costs about 8 s of
+// compiling in every file that instantiates it.
+Matrix6 positive_part(const Matrix6& h);
 
 // d^2 W_e / dx_i dx_j for the element's nodes i, j in 0..2, as 3x3 blocks (3 i + a,
 // 3 j + b).
@@ -132,11 +130,6 @@ inline Matrix9 tension_field_element_hessian(const ElementReference& ref, double
                                              Vec3 x0, Vec3 x1, Vec3 x2) {
   return node_hessian(membrane_edge_hessian(ref, gs, true, x0, x1, x2));
 }
-
-// Which Hessian of the element energy: the exact one, or its positive semidefinite
-// part in the edge coordinates (positive_part; exact where the element is convex, as
-// everywhere on a stretched membrane).
-enum class HessianPart { exact, positive };
 
 // The Hessian of membrane_element.
 inline Matrix9 membrane_element_hessian(const ElementReference& ref, double gs,

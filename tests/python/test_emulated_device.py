@@ -1,5 +1,5 @@
 """A short suspension run on the CUDA backend's device code, executed on the CPU by the
-host-emulation build (build-emulate/, made by scripts/test.sh), against the same run on
+host-emulation build (build-sanitize/, made by scripts/test.sh under the sanitizers), against the same run on
 the CPU backend, with the paper's membrane, with the wrinkling one and dense (phi 0.4)
 with the repulsion between capsules: the time series and the summaries agree to 1e-12
 relative (measured: 2e-15 to 1.4e-14; the device sums in another order: atomics in
@@ -16,7 +16,7 @@ from analysis.read_run import read_timeseries
 
 ROOT = Path(__file__).resolve().parents[2]
 CAPSIM = ROOT / "build" / "capsim"
-EMULATED = ROOT / "build-emulate" / "capsim"
+EMULATED = ROOT / "build-sanitize" / "capsim"
 CASE = ["--set", "mesh_level=1", "--set", "ca=0.3", "--set", "phi=0.1",
         "--set", "capsules=4", "--set", "t_end=0.6", "--set", "t_avg_start=0.2",
         "--set", "output.snapshot_interval=0",

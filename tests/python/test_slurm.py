@@ -1,7 +1,7 @@
 """The cluster path against a real scheduler: a one-node SLURM started on this machine
 (tests/python/one_node_slurm.py) runs the workflow through the SLURM profile
-(profiles/slurm, snakemake-executor-plugin-slurm) while the local executor runs the same
-targets beside it:
+(profiles/slurm, snakemake-executor-plugin-slurm), and its outputs are held against the
+local executor's of the same targets:
 
 - the ci configuration (config/ci.yaml), `all check`: every run is a job of its own with
   the resources the profile and the configuration state (CPUs, memory, time limit, read
@@ -19,13 +19,13 @@ targets beside it:
 A third test, without the cluster, checks that the cost model cuts the runs of
 config/paper.yaml into segments that fit a 4-hour partition (docs/workflow.md).
 
-The two run at once, the chain in the background while the ci workflow runs: the chain
-waits at least two minutes for the time limit, and the plugin polls SLURM less often the
-longer no job ends (10 s more each time), so it takes about 4.3 minutes, the ci workflow
-about 5.3: 5.6 minutes in all on 2 cores beside a two-thread run at niceness 19
-(2026-12-06). Where SLURM is not installed, this is not root or the daemons do not start,
-the test fails and says why (the daemons' logs included); scripts/setup.sh installs the
-Debian packages."""
+The local executor's ci workflow is the ci_workflow fixture (conftest.py), made once for
+this file and test_workflow_ci.py before the cluster starts. The two cluster tests run at
+once, the chain in the background while the ci workflow runs: the chain waits at least
+two minutes for the time limit, and the plugin polls SLURM less often the longer no job
+ends (10 s more each time). Where SLURM is not installed, this is not root or the daemons
+do not start, the test fails and says why (the daemons' logs included); scripts/setup.sh
+installs the Debian packages."""
 
 import json
 import os
@@ -309,17 +309,18 @@ def test_a_paper_scale_run_is_cut_into_segments_that_fit_a_partition_s_limit():
 
 
 def test_the_ci_workflow_through_the_slurm_profile_equals_the_local_executor(
-        cluster, chain, tmp_path):
-    # `chain` runs in the background meanwhile, ahead of these (niceness 19): its jobs
-    # other than the one it pauses must end within their 2-minute limit. Each of its jobs
-    # computes about a second but starts a snakemake (~8 s of a core) beside up to 18
-    # jobs of these two: at niceness 10 they leave it about a third of a core, at 19 about
-    # four fifths, and the limit is then room for a machine several times slower.
-    local = snakemake(tmp_path / "local", *TARGETS, background=True, nice=19)
+        cluster, chain, ci_workflow, tmp_path):
+    # The local executor's outputs: the ci_workflow fixture (conftest.py), which
+    # test_workflow_ci.py reads too, made before the cluster's jobs start. `chain` runs
+    # in the background meanwhile, ahead of these (niceness 19): its jobs other than the
+    # one it pauses must end within their 2-minute limit. Each of its jobs computes about
+    # a second but starts a snakemake (~8 s of a core) beside up to 18 jobs of these: at
+    # niceness 10 they leave it about a third of a core, at 19 about four fifths, and the
+    # limit is then room for a machine several times slower.
+    local_dir, local = ci_workflow
+    assert local.returncode == 0, local.stdout[-3000:] + local.stderr[-3000:]
     slurm = snakemake(tmp_path / "slurm", *TARGETS, profile=PROFILE, nice=19)
-    local = finish(local, tmp_path / "local")
     assert slurm.returncode == 0, slurm.output[-4000:]
-    assert local.returncode == 0, local.output[-4000:]
 
     jobs = jobs_in(cluster, tmp_path / "slurm")
     assert [j["Comment"] for j in jobs if j["JobState"] != "COMPLETED"] == []
@@ -330,7 +331,7 @@ def test_the_ci_workflow_through_the_slurm_profile_equals_the_local_executor(
         assert requested(job) == expected_resources(rule, wildcards, res), job["Comment"]
         if rule == "run":
             submitted_runs.add(wildcards)
-    want, got = tmp_path / "local" / "results", tmp_path / "slurm" / "results"
+    want, got = local_dir / "results", tmp_path / "slurm" / "results"
     runs = run_folders(want)
     assert len(runs) == 16 and run_folders(got) == runs
     assert submitted_runs == {str(r).replace("/", "_") for r in runs}

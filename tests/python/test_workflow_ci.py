@@ -1,18 +1,15 @@
 """The whole workflow on the ci configuration (config/ci.yaml), end to end: every study,
-figure and table into a temporary working directory, then the `check` target. About
-1.5 minutes on 2 cores. Skipped when build/capsim or snakemake is missing."""
+figure and table into a temporary working directory, then the `check` target (the
+ci_workflow fixture of conftest.py, which test_slurm.py reads too). About 1.5 minutes on
+2 cores. Skipped when build/capsim or snakemake is missing."""
 
 import shutil
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 import yaml
 
-ROOT = Path(__file__).resolve().parents[2]
-CAPSIM = ROOT / "build" / "capsim"
-SNAKEMAKE = Path(sys.executable).with_name("snakemake")
+from conftest import CAPSIM, ROOT, SNAKEMAKE
+from conftest import run_snakemake as snakemake
 
 pytestmark = [
     pytest.mark.skipif(not CAPSIM.exists(), reason="build/capsim is missing (bash scripts/setup.sh)"),
@@ -21,18 +18,10 @@ pytestmark = [
 ]
 
 
-def snakemake(workdir, *targets, configfile="ci.yaml", extra=()):
-    exe = str(SNAKEMAKE) if SNAKEMAKE.exists() else shutil.which("snakemake")
-    cmd = [exe, "--cores", "2", "--snakefile", str(ROOT / "Snakefile"), "--directory",
-           str(workdir), *targets, "--configfile", str(ROOT / "config" / configfile),
-           *extra]
-    return subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-
-
-def test_ci_workflow_and_check(tmp_path):
-    proc = snakemake(tmp_path, "all", "check")
+def test_ci_workflow_and_check(ci_workflow, tmp_path):
+    workdir, proc = ci_workflow
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    figures = tmp_path / "results" / "figures"
+    figures = workdir / "results" / "figures"
     for n in range(1, 13):
         for ext in ("png", "pdf", "csv"):
             assert (figures / f"fig{n:02d}.{ext}").stat().st_size > 0
@@ -44,22 +33,22 @@ def test_ci_workflow_and_check(tmp_path):
     assert "Rule (analysis/paper_comparison.py)" in comparison
     # The check held the figure data and the verdicts against config/expected/ci/.
     assert "the paper comparison is as committed; the figure data are as committed" in \
-        (tmp_path / "results" / "check" / "report.md").read_text()
+        (workdir / "results" / "check" / "report.md").read_text()
     assert (figures / "paper_comparison.csv").stat().st_size > 0
     # A run two studies need is made once: the mesh study's coarse run and the box-size
     # study's M = 2, seed 1 are the grid's point (Ca 0.4, phi 0.2, M 2, level 1, seed 1);
     # the initial-position runs (t_end 0.4, not 0.3) are their own.
-    results = tmp_path / "results"
+    results = workdir / "results"
     shared = "ca0.4_phi0.2_M2_level1_seed1"
     assert (results / "grid" / shared / "summary.json").exists()
     assert not (results / "mesh" / shared).exists()
     assert not (results / "boxsize" / shared).exists()
     assert (results / "initial" / shared / "summary.json").exists()
     assert f"grid/{shared}" in (results / "mesh" / "table.csv").read_text()
-    report = (tmp_path / "results" / "check" / "report.md").read_text()
+    report = (workdir / "results" / "check" / "report.md").read_text()
     assert "0 failed" in report
     # Nothing is left to do: a second invocation runs no job.
-    again = snakemake(tmp_path, "all", "check", "-n")
+    again = snakemake(workdir, "all", "check", "-n")
     assert again.returncode == 0
     assert "Nothing to be done" in again.stdout + again.stderr
     assert "main studies: 0 of 16 runs to compute, about 0.0 h" in again.stderr
@@ -68,7 +57,7 @@ def test_ci_workflow_and_check(tmp_path):
     more = yaml.safe_load((ROOT / "config" / "ci.yaml").read_text())
     more["initial"]["seeds"] = [1, 2, 3]
     (tmp_path / "more.yaml").write_text(yaml.safe_dump(more))
-    plan = snakemake(tmp_path, "all", "-n", extra=["--configfile", str(tmp_path / "more.yaml")])
+    plan = snakemake(workdir, "all", "-n", extra=["--configfile", str(tmp_path / "more.yaml")])
     assert plan.returncode == 0, plan.stdout[-3000:] + plan.stderr[-3000:]
     jobs = planned_jobs(plan.stdout)
     assert jobs["run"] == 1 and jobs["run_table"] >= 1
