@@ -10,7 +10,6 @@ convergence of the dilute table, and the weighted straight lines of figures 3a a
 import math
 
 import numpy as np
-from scipy.optimize import least_squares
 
 FIT_PHI_MAX = 0.10  # section 4.2: a2 converged for the fitting range 0 <= phi <= 0.10
 PHI_RANDOM_CLOSE = 0.63  # maximum packing of eq. 4.7 (random close packing)
@@ -82,6 +81,9 @@ def fit_kd_max_packing(phi, mu_sp, intrinsic=EINSTEIN, phi_m0=PHI_RANDOM_CLOSE):
         return kd_specific_viscosity(phi[use], x[0], intrinsic) - mu_sp[use]
 
     start = min(max(phi_m0, lower * 1.01), 9.99)
+    # Imported here: the workflow imports this module at every start, and scipy.optimize
+    # takes about 0.6 s to import.
+    from scipy.optimize import least_squares
     return float(least_squares(residual, [start], bounds=([lower], [10.0])).x[0])
 
 

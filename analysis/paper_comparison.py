@@ -73,8 +73,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy import stats
-
 from analysis import fits
 from analysis.membrane import PAPER as PAPER_MEMBRANE
 from analysis.statistics import mean_of_runs_standard_error, propagated_standard_error
@@ -82,7 +80,6 @@ from analysis.tables import markdown_table, read_yaml_list, select, with_data, w
 from analysis.verdict import Missing, Results
 
 K = 2.0  # the agreement band: 2 standard errors (95 % for a Gaussian)
-P_LINEAR = 2.0 * stats.norm.sf(K)  # the chance of K standard deviations, 4.55 %
 CLASSES = ("number", "trend", "other-paper", "analytic")
 POINT_TESTS = ("value", "range", "max", "sign", "rounded", "approx")
 SERIES_TESTS = ("rises", "falls", "flat", "linear", "nonlinear")
@@ -775,6 +772,9 @@ def linearity(series):
         intercept, slope, _ = fits.linear_fit(s.x, s.y, se)
         chi2 += float(np.sum(((s.y - intercept - slope * s.x) / se) ** 2))
         dof += len(s.x) - 2
+    # scipy.stats is imported where used: the workflow imports this module at every
+    # start (through pipeline.results_page), and scipy.stats takes about 1 s to import.
+    from scipy import stats
     return chi2, dof, (float(stats.chi2.sf(chi2, dof)) if dof else math.nan)
 
 
@@ -795,7 +795,10 @@ def judge(claim, data):
         chi2, dof, p = linearity(data)
         if not dof:
             return f"{INCONCLUSIVE}: needs three points in a series", "", 0.0, []
-        straight = p >= P_LINEAR
+        from scipy import stats  # imported where used, as in linearity()
+        # Straight where the chance of the scatter is at least that of K standard
+        # deviations (4.55 %).
+        straight = p >= 2.0 * stats.norm.sf(K)
         word = AGREES if straight == (test == "linear") else DIFFERS
         z = float(stats.norm.isf(max(p, 1e-300) / 2.0))
         return word, f"chi^2 {chi2:.1f} over {dof} degrees of freedom, chance {p:.2g}", \

@@ -16,7 +16,6 @@ are correlated with each other too, so they are not independent samples).
 import math
 
 import numpy as np
-from scipy import signal
 
 SOKAL_WINDOW = 5.0  # window W: the smallest with W >= c tau_int(W) (Sokal 1997, c = 5)
 
@@ -28,6 +27,9 @@ def integrated_autocorrelation_time(x):
     if x.size < 2:
         return 0.5
     dev = x - x.mean()
+    # Imported here: the workflow imports this module at every start (through the
+    # accuracy study's plan), and scipy.signal takes about 0.6 s to import.
+    from scipy import signal
     acov = signal.correlate(dev, dev, mode="full", method="fft")[x.size - 1:]
     if acov[0] <= 0.0:
         return 0.5
