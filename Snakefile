@@ -55,6 +55,32 @@ report_before_scheduling()
 include: "workflow/rules/archive.smk"
 
 
+# On a cluster (profiles/slurm) only the rules that run or build capsim (and restore runs
+# from the archive) are jobs: those that read finished runs into tables, figures, the
+# comparison with the paper, the check and the page take seconds each and run where
+# snakemake runs, instead of waiting in the queue one by one.
+localrules:
+    all,
+    accuracy_errors,
+    check,
+    coefficients,
+    dilute_table,
+    eblimit_table,
+    figure,
+    grid_paper_membrane,
+    paper_comparison,
+    results_page,
+    run_table,
+    sensitivity_figure,
+    sensitivity_table,
+    speed_error_figure,
+    table1,
+    viscosity_ratio_dense_figure,
+    viscosity_ratio_dense_table,
+    viscosity_ratio_figure,
+    viscosity_ratio_table,
+
+
 rule all:
     default_target: True
     input:

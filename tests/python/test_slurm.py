@@ -5,7 +5,8 @@ local executor's of the same targets:
 
 - the ci configuration (config/ci.yaml), `all check`: every run is a job of its own with
   the resources the profile and the configuration state (CPUs, memory, time limit, read
-  back from slurmctld with `scontrol show job`), the figures and the check are made, and
+  back from slurmctld with `scontrol show job`), the tables, figures and the check are
+  made where snakemake runs (the Snakefile's localrules), and
   every run's output and every figure's and table's data equal the local executor's to
   the last bit;
 - chained segments under a time limit: one run in two segments (segments.strain 1) on
@@ -314,7 +315,7 @@ def test_the_ci_workflow_through_the_slurm_profile_equals_the_local_executor(
     # test_workflow_ci.py reads too, made before the cluster's jobs start. `chain` runs
     # in the background meanwhile, ahead of these (niceness 19): its jobs other than the
     # one it pauses must end within their 2-minute limit. Each of its jobs computes about
-    # a second but starts a snakemake (~8 s of a core) beside up to 18 jobs of these: at
+    # a second but starts a snakemake (~3 s of a core) beside the jobs of these: at
     # niceness 10 they leave it about a third of a core, at 19 about four fifths, and the
     # limit is then room for a machine several times slower.
     local_dir, local = ci_workflow
@@ -324,6 +325,9 @@ def test_the_ci_workflow_through_the_slurm_profile_equals_the_local_executor(
 
     jobs = jobs_in(cluster, tmp_path / "slurm")
     assert [j["Comment"] for j in jobs if j["JobState"] != "COMPLETED"] == []
+    # Only what runs capsim is a job; tables, figures and the check run where snakemake
+    # runs (the Snakefile's localrules).
+    assert {rule_and_wildcards(j)[0] for j in jobs} == {"run", "multipole_error"}
     res = configured_resources()
     submitted_runs = set()
     for job in jobs:
@@ -346,10 +350,10 @@ def test_the_ci_workflow_through_the_slurm_profile_equals_the_local_executor(
     assert tables and tables == data_files(want)
     for rel in tables:
         assert (got / rel).read_bytes() == (want / rel).read_bytes(), rel
-    print(f"slurm: {len(jobs)} jobs, one per run ({len(runs)}) with the CPUs, memory and "
-          "time limit of profiles/slurm and the configuration, figures 1-12 and the check "
-          f"made; the runs and {len(tables)} tables and figure data files equal the local "
-          "executor's to the last bit")
+    print(f"slurm: {len(jobs)} jobs, one per run ({len(runs)}) and the multipole error's, "
+          "with the CPUs, memory and time limit of profiles/slurm and the configuration; "
+          f"figures 1-12 and the check made; the runs and {len(tables)} tables and figure "
+          "data files equal the local executor's to the last bit")
 
 
 def test_a_segment_killed_at_its_time_limit_resumes_to_the_uninterrupted_run(
