@@ -73,6 +73,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
 from analysis import fits
 from analysis.membrane import PAPER as PAPER_MEMBRANE
 from analysis.statistics import mean_of_runs_standard_error, propagated_standard_error
