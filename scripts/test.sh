@@ -15,6 +15,9 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 
 JOBS="${CAPSIM_JOBS:-2}"
+# LeakSanitizer's known reports outside the project (tests/sanitizers/lsan.supp), for
+# every run of the sanitized build: its self-test, its suite and pytest's emulated device.
+export LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp"
 
 # Configures a second build folder DIR (Release, no benchmarks, Ninja when present) with
 # the extra CMake arguments given; the report goes to DIR/configure.log.
@@ -52,8 +55,7 @@ sanitized_build() {
 
 # The CUDA backend's device code against the CPU backend (capsim selftest), emulated.
 emulated_device_selftest() {
-  LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp" \
-    build-sanitize/capsim selftest --backend cuda
+  build-sanitize/capsim selftest --backend cuda
 }
 
 # The C++ suite under the sanitizers; any report fails its test. The slowest tests (about
@@ -62,8 +64,7 @@ emulated_device_selftest() {
 # sums) run in the plain suite only; the IMEX, relaxation, second-kind, periodic
 # double-layer and drop paths they take are covered by faster tests here.
 sanitized_suite() {
-  LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizers/lsan.supp" \
-    ctest_suite build-sanitize -E "relaxes to a sphere, energy decreasing|converges at second order|capsule at lambda|drop: .*Taylor|deflated solve is the equation"
+  ctest_suite build-sanitize -E "relaxes to a sphere, energy decreasing|converges at second order|capsule at lambda|drop: .*Taylor|deflated solve is the equation"
 }
 
 # The C++ suite of build folder $1 (extra ctest arguments after it). --no-tests=error: an

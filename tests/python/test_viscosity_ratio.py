@@ -220,13 +220,16 @@ def test_the_results_page_section(results, tmp_path):
     assert "![The viscosity ratio](" in text and (tmp_path / "viscosity_ratio.png").exists()
     dense = [line for line in lines if "once all its runs are archived" in line]
     assert len(dense) == 1 and "Ca 0.2, phi 0.1-0.3, M = 27" in dense[0]
-    # The study's cost from the benchmark at its own scale and tolerance.
-    record = json.loads((ROOT / "benchmarks" / "records" /
-                         "viscosity_ratio_cost_dense_M27.json").read_text())
-    measured = {c["lambda"]: c["cost_ratio"] for c in record["cases"]
-                if c["mesh_level"] == 3 and c["gmres_tolerance"] == 1e-5}
-    assert f"costs {measured[5.0]:.0f} times and at lambda 0.2 {measured[0.2]:.0f} " \
-        "times lambda = 1" in dense[0]
+    # The study's cost from the benchmark at its own scale and tolerance, the range over
+    # the machines measured.
+    measured = [{c["lambda"]: c["cost_ratio"] for c in json.loads(
+        (ROOT / "benchmarks" / "records" / name).read_text())["cases"]
+        if c["mesh_level"] == 3 and c["gmres_tolerance"] == 1e-5}
+        for name in ("viscosity_ratio_cost_dense_M27.json",
+                     "viscosity_ratio_cost_dense_M27_epyc.json")]
+    at = {ratio: sorted(m[ratio] for m in measured) for ratio in (5.0, 0.2)}
+    assert f"costs {at[5.0][0]:.0f} to {at[5.0][1]:.0f} times and at lambda 0.2 " \
+        f"{at[0.2][0]:.0f} to {at[0.2][1]:.0f} times lambda = 1" in dense[0]
 
 
 # The dense part: the grid's suspension at other ratios.
