@@ -284,6 +284,23 @@ def folder_version(run_dir):
     return None
 
 
+def check_length(run_dir, t_end):
+    """That a finished run folder was run to `t_end`, its configuration's (run.yaml's
+    t_end: what was asked, not where a stop ended it). t_end is no part of a run's key, and
+    a finished folder is never run again, so a configuration that raised or lowered it
+    would otherwise take the folder's series as its run. Raises ArchiveError naming the
+    folder, both ends and what to do."""
+    run_dir = Path(run_dir)
+    got = folder_options(run_dir) if (run_dir / SUMMARY).exists() else None
+    if got is None or math.isclose(float(flat_options(got)["t_end"]), float(t_end)):
+        return  # an unfinished run's next job resumes it to t_end
+    extend = (f"; or, to continue it from its checkpoint, its {SUMMARY}"
+              if (run_dir / CHECKPOINT).exists() else "")
+    raise ArchiveError(f"run folder {run_dir} was run to t_end {flat_options(got)['t_end']}"
+                       f", this configuration's is {t_end:g}: remove it (rm -r '{run_dir}')"
+                       f" to restore or compute the run anew{extend}")
+
+
 def check_folder(run_dir, options):
     """That a run folder holds the run of these resolved options (its run.yaml), of this
     physics version, and, where it was restored from a record, every file as it was

@@ -109,6 +109,37 @@ def wait_for(condition, what, timeout=60):
     raise AssertionError(f"timed out waiting for {what}")
 
 
+# A dilute run of a fifth of a strain unit, whose t_end the configuration then raises.
+SHORT_CONFIG = {"resources": {"threads": 1},
+                "dilute": {"ca": [0.2], "mesh_levels": [2], "t_end": 0.2,
+                           "t_avg_start": 0.0}}
+SHORT_RUN = "results/dilute/ca0.2_level2"
+
+
+def test_a_finished_run_of_another_t_end_stops_the_workflow_until_told_what_to_do(
+        tmp_path):
+    # t_end is no part of a run's key and a finished folder is never run again: the
+    # shorter run must not stand as the raised configuration's, in a dry run either.
+    target = f"{SHORT_RUN}/summary.json"
+    write_config(tmp_path, SHORT_CONFIG)
+    first = snakemake(tmp_path, target)
+    assert first.returncode == 0, first.stderr[-3000:]
+    write_config(tmp_path, {**SHORT_CONFIG,
+                            "dilute": {**SHORT_CONFIG["dilute"], "t_end": 0.4}})
+    raised = snakemake(tmp_path, "-n", target)
+    said = raised.stdout + raised.stderr  # a WorkflowError goes to stdout
+    assert raised.returncode != 0
+    assert (f"run folder {SHORT_RUN} was run to t_end 0.2, this configuration's is 0.4: "
+            f"remove it (rm -r '{SHORT_RUN}')") in said, said[-2000:]
+    assert "or, to continue it from its checkpoint, its summary.json" in said
+    # Told so, the run continues from its checkpoint to the raised t_end.
+    (tmp_path / SHORT_RUN / "summary.json").unlink()
+    again = snakemake(tmp_path, target)
+    assert again.returncode == 0, again.stderr[-3000:]
+    summary = json.loads((tmp_path / SHORT_RUN / "summary.json").read_text())
+    assert summary["resumed"] is True and summary["t_end"] >= 0.4
+
+
 def test_run_options_reach_capsim_in_its_spelling(tmp_path):
     # A YAML boolean in run_options (membrane.wrinkling: true) is Python's True, which
     # capsim refuses: every suspension run would stop at once with exit 2.

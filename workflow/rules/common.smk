@@ -223,8 +223,11 @@ def archive_plan():
 def report_before_scheduling():
     """The archive's and the main studies' lines on stderr; a damaged or foreign record, a
     folder of the archive that is no record or a run folder that holds another run (or
-    cannot be read) stops the workflow here, named, with what to do."""
+    cannot be read) or a finished run of another t_end stops the workflow here, named,
+    with what to do."""
     try:
+        for spec in RUNS.values():
+            archive.check_length(spec.folder, spec.t_end)
         report_archive(archive_plan())
         report_remaining(main_runs().values(), archive_plan())
     except (archive.ArchiveError, ValueError) as e:
