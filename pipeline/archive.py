@@ -292,13 +292,16 @@ def check_length(run_dir, t_end):
     folder, both ends and what to do."""
     run_dir = Path(run_dir)
     got = folder_options(run_dir) if (run_dir / SUMMARY).exists() else None
-    if got is None or math.isclose(float(flat_options(got)["t_end"]), float(t_end)):
-        return  # an unfinished run's next job resumes it to t_end
+    if got is None:
+        return  # none, or unfinished: its next job resumes it to t_end
+    asked = float(flat_options(got)["t_end"])
+    if math.isclose(asked, float(t_end)):
+        return
     extend = (f"; or, to continue it from its checkpoint, its {SUMMARY}"
               if (run_dir / CHECKPOINT).exists() else "")
-    raise ArchiveError(f"run folder {run_dir} was run to t_end {flat_options(got)['t_end']}"
-                       f", this configuration's is {t_end:g}: remove it (rm -r '{run_dir}')"
-                       f" to restore or compute the run anew{extend}")
+    raise ArchiveError(f"run folder {run_dir} was run to t_end {asked:g}, this "
+                       f"configuration's is {float(t_end):g}: remove it (rm -r "
+                       f"'{run_dir}') to restore or compute the run anew{extend}")
 
 
 def check_folder(run_dir, options):

@@ -8,7 +8,9 @@ configurations written to a temporary working directory:
   from its checkpoint instead of starting again;
 - a second snakemake on the same working directory, started while the first runs a job,
   is refused by snakemake's lock;
-- a second job for a run whose capsim is still running is refused (pipeline.job).
+- a second job for a run whose capsim is still running is refused (pipeline.job);
+- a finished run whose t_end the configuration raised stops the workflow, named, and
+  continues from its checkpoint once its summary is removed.
 
 About 30 s on 2 cores. Skipped when build/capsim or snakemake is missing."""
 
