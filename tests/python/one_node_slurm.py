@@ -13,7 +13,7 @@ profile's requests (16 CPUs a run) of all 16 runs of config/ci.yaml at once, so 
 workflow goes through SLURM in as few rounds of the plugin's polling as its dependencies
 allow; nothing enforces them here (no cgroups: proctrack/linuxproc, task/none), so the
 jobs share the machine's cores. Two partitions: `main` (the default, no time limit) and
-`short` (a 2-minute limit).
+`short` (a limit of SHORT_MINUTES, one minute: SLURM's smallest).
 
 Without a database, squeue and scontrol know finished jobs for MinJobAge (600 s here):
 the plugin's status command is `squeue` and the test reads the jobs with `scontrol`."""
@@ -36,6 +36,7 @@ LOCK_WAIT = 900
 MARK = "# written by tests/python/one_node_slurm.py: removed when its test ends\n"
 TOOLS = ("munged", "slurmctld", "slurmd", "sbatch", "srun", "squeue", "scontrol", "sinfo")
 NODE_CPUS = 320
+SHORT_MINUTES = 1
 
 
 class ClusterError(RuntimeError):
@@ -169,7 +170,7 @@ PropagatePrioProcess=1
 SlurmdParameters=config_overrides
 NodeName={self.host} NodeAddr=127.0.0.1 CPUs={NODE_CPUS} RealMemory=500000 State=UNKNOWN
 PartitionName=main Nodes={self.host} Default=YES MaxTime=UNLIMITED State=UP
-PartitionName=short Nodes={self.host} MaxTime=2 State=UP
+PartitionName=short Nodes={self.host} MaxTime={SHORT_MINUTES} State=UP
 """)
 
     def daemon(self, name, cmd):

@@ -10,7 +10,7 @@ local executor's of the same targets:
   every run's output and every figure's and table's data equal the local executor's to
   the last bit;
 - chained segments under a time limit: one run in two segments (segments.strain 1) on
-  the partition `short` (a 2-minute limit, resources.suspension_minutes 2), each segment
+  the partition `short` (a 1-minute limit, resources.suspension_minutes 1), each segment
   a job; capsim of the second is paused (SIGSTOP) after a checkpoint within the segment,
   so that the job overruns its limit without holding a core, and the scheduler kills it
   (TIMEOUT); the profile's retry resumes it from that checkpoint in the next job, and the
@@ -23,7 +23,7 @@ config/paper.yaml into segments that fit a 4-hour partition (docs/workflow.md).
 The local executor's ci workflow is the ci_workflow fixture (conftest.py), made once for
 this file and test_workflow_ci.py before the cluster starts. The two cluster tests run at
 once, the chain in the background while the ci workflow runs: the chain waits at least
-two minutes for the time limit, and the plugin polls SLURM less often the longer no job
+a minute for the time limit, and the plugin polls SLURM less often the longer no job
 ends (10 s more each time). Where SLURM is not installed, this is not root or the daemons
 do not start, the test fails and says why (the daemons' logs included); scripts/setup.sh
 installs the Debian packages."""
@@ -42,7 +42,7 @@ import numpy as np
 import pytest
 import yaml
 
-from one_node_slurm import ClusterError, OneNodeSlurm, environment
+from one_node_slurm import SHORT_MINUTES, ClusterError, OneNodeSlurm, environment
 from test_workflow_ci import CAPSIM, ROOT, SNAKEMAKE, pytestmark  # noqa: F401 (the skips)
 
 PROFILE = ROOT / "profiles" / "slurm"
@@ -53,10 +53,10 @@ PLUGIN_ARGS = ["--slurm-status-command", "squeue",
                "--slurm-init-seconds-before-status-checks", "1"]
 TARGETS = ("all", "check")
 CHAIN_RUN = "grid/ca0.4_phi0.2_M2_level3_seed1"
-CHAIN = {  # two segments of one strain, a checkpoint every 0.1; 1 thread, 2 minutes
+CHAIN = {  # two segments of one strain, a checkpoint every 0.1; 1 thread, 1 minute
     "grid": {"ca": [0.4], "phi": [0.2], "capsules": 2, "mesh_level": 3, "seeds": [1],
              "t_end": 2},
-    "resources": {"threads": 1, "suspension_minutes": 2},
+    "resources": {"threads": 1, "suspension_minutes": SHORT_MINUTES},
     "run_options": {"output.checkpoint_interval": 0.1},
     "segments": {"strain": 1},
 }
@@ -314,7 +314,7 @@ def test_the_ci_workflow_through_the_slurm_profile_equals_the_local_executor(
     # The local executor's outputs: the ci_workflow fixture (conftest.py), which
     # test_workflow_ci.py reads too, made before the cluster's jobs start. `chain` runs
     # in the background meanwhile, ahead of these (niceness 19): its jobs other than the
-    # one it pauses must end within their 2-minute limit. Each of its jobs computes about
+    # one it pauses must end within their 1-minute limit. Each of its jobs computes about
     # a second but starts a snakemake (~3 s of a core) beside the jobs of these: at
     # niceness 10 they leave it about a third of a core, at 19 about four fifths, and the
     # limit is then room for a machine several times slower.
@@ -394,6 +394,6 @@ def test_a_segment_killed_at_its_time_limit_resumes_to_the_uninterrupted_run(
     assert summary_values(run_dir / "summary.json") == summary_values(
         uninterrupted / "summary.json")
     print(f"slurm: {CHAIN_RUN}: the second of its two segment jobs, paused at t = "
-          f"{paused['t']:.2f}, killed at its 2-minute limit (TIMEOUT), resumed in the next "
-          f"job from t = {segments[-1][0]:.2f}; equal to the uninterrupted run to the last "
-          "bit")
+          f"{paused['t']:.2f}, killed at its {SHORT_MINUTES}-minute limit (TIMEOUT), resumed "
+          f"in the next job from t = {segments[-1][0]:.2f}; equal to the uninterrupted run "
+          "to the last bit")
