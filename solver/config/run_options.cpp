@@ -449,7 +449,7 @@ const std::vector<Param>& parameters() {
       named(
           "backend", kBackends, [](RunOptions& o) -> Backend& { return o.backend; },
           "where the flow is evaluated: cpu (OpenMP) or cuda (one GPU; lumped load, "
-          "the spectral method, no bending)"),
+          "the spectral method)"),
   };
   return table;
 }

@@ -12,14 +12,17 @@ struct DeviceFlow::Impl {
   // The mesh (one topology for all capsules) and its reference state.
   DeviceArray<int> triangles, corner_offset, corner;
   DeviceArray<ElementReference> refs;
+  // The bending hinges (none without bending) and each node's hinge corners.
+  DeviceArray<int> hinges, hinge_offset, hinge_corner;
+  DeviceArray<HingeReference> hinge_refs;
   cuda::MeshView mesh;
-  double gs = 0, shear_rate = 0;
+  double gs = 0, kb = 0, shear_rate = 0;
   bool wrinkling = false; // the relaxed membrane energy (membrane.wrinkling)
   // Accurate quadrature: options plus the Gauss-Legendre rule of the polar integrals.
   DeviceArray<double> gl_x, gl_w;
   NearRule rule;
   // Work arrays: positions, velocities, traction, sources.
-  DeviceArray<Vec3> x, u0, q, corner_grad, y, f;
+  DeviceArray<Vec3> x, u0, q, corner_grad, hinge_grad, y, f;
   DeviceArray<Vec3> repulsion_grad; // the host's repulsion gradient, where it is on
   DeviceArray<double> area;
   DeviceArray<TriangleLoad> loads;
@@ -34,6 +37,7 @@ struct DeviceFlow::Impl {
   std::unique_ptr<cuda::DeviceFft3> fft;
 
   void upload_mesh(const Membrane& membrane, int num_capsules);
+  void upload_hinges(const Membrane& membrane);
   void compute_traction(const Vec3* xd, const Vec3* repulsion);
   void compute_velocity(const Vec3* xd, const Vec3* repulsion, double t, Vec3* ud);
   void add_reciprocal(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
@@ -67,6 +71,38 @@ void DeviceFlow::Impl::upload_mesh(const Membrane& membrane, int num_capsules) {
   mesh.tri_per_capsule = nt;
   mesh.nodes_per_capsule = nn;
   mesh.capsules = num_capsules;
+  upload_hinges(membrane);
+}
+
+// Each node's hinge corners in hinge order, as the CPU adds the hinges' gradients.
+void DeviceFlow::Impl::upload_hinges(const Membrane& membrane) {
+  const std::vector<Hinge>& hs = membrane.hinges();
+  if (hs.empty())
+    return;
+  const int nh = int(hs.size()), nn = membrane.topology().num_nodes;
+  std::vector<int> nodes(4 * nh), offset(nn + 1, 0), corners(4 * nh);
+  for (int h = 0; h < nh; ++h) {
+    const int n[4] = {hs[h].a, hs[h].b, hs[h].c, hs[h].d};
+    for (int k = 0; k < 4; ++k) {
+      nodes[4 * h + k] = n[k];
+      ++offset[n[k] + 1];
+    }
+  }
+  for (int a = 0; a < nn; ++a)
+    offset[a + 1] += offset[a];
+  std::vector<int> fill(offset.begin(), offset.end() - 1);
+  for (int h = 0; h < nh; ++h)
+    for (int k = 0; k < 4; ++k)
+      corners[fill[nodes[4 * h + k]]++] = 4 * h + k;
+  hinges.upload(nodes);
+  hinge_offset.upload(offset);
+  hinge_corner.upload(corners);
+  hinge_refs.upload(membrane.hinge_references());
+  mesh.hinges = hinges.data();
+  mesh.hinge_refs = hinge_refs.data();
+  mesh.node_hinge_offset = hinge_offset.data();
+  mesh.node_hinge = hinge_corner.data();
+  mesh.hinges_per_capsule = nh;
 }
 
 DeviceFlow::DeviceFlow(const FlowSetup& setup)
@@ -77,6 +113,7 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup)
   Impl& s = *impl_;
   s.upload_mesh(membrane, setup.num_capsules);
   s.gs = membrane.shear_modulus();
+  s.kb = membrane.bending_modulus();
   s.wrinkling = membrane.wrinkling();
   s.shear_rate = setup.shear_rate;
   const LineRule gl = gauss_legendre_01(quadrature.singular_points);
@@ -93,6 +130,7 @@ DeviceFlow::DeviceFlow(const FlowSetup& setup)
     a->resize(n);
   for (auto* a : {&s.corner_grad, &s.y, &s.f, &s.y_binned, &s.f_binned, &s.bin_scratch})
     a->resize(3 * nt);
+  s.hinge_grad.resize(4 * size_t(s.mesh.num_hinges()));
   s.bin_key.resize(3 * nt);
   s.src_order.resize(3 * nt);
   s.tri_order.resize(nt);
@@ -115,7 +153,11 @@ DeviceFlow::~DeviceFlow() = default;
 
 void DeviceFlow::Impl::compute_traction(const Vec3* xd, const Vec3* repulsion) {
   cuda::element_forces(mesh, gs, wrinkling, xd, corner_grad.data(), area.data());
-  cuda::gather_nodes(mesh, corner_grad.data(), area.data(), repulsion, true, q.data());
+  const bool bending = mesh.num_hinges() > 0;
+  if (bending)
+    cuda::hinge_forces(mesh, kb, xd, hinge_grad.data());
+  cuda::gather_nodes(mesh, corner_grad.data(), area.data(),
+                     bending ? hinge_grad.data() : nullptr, repulsion, true, q.data());
 }
 
 // The same sequence as the CPU's spectral_ewald.cpp: spread, forward FFT, multiplier

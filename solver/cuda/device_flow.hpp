@@ -17,14 +17,14 @@ namespace capsim {
 class DeviceFlow : public Flow {
 public:
   // The lumped load only (the consistent mass-matrix solve has no device version yet),
-  // Spectral Ewald only, no bending, no drop; the repulsion's gradient from the host;
+  // Spectral Ewald only, no drop; the repulsion's gradient from the host;
   // r_cut < L/3, so that the nearest image of a source is the only one within r_cut (the
   // shortest lattice vector of the sheared box is L, and fractional wrapping finds that
   // image); the spreading stencil within the kernels' fixed bound.
   static FlowCapabilities capabilities() {
     FlowCapabilities c;
-    c.consistent_load = c.bending = c.drop = c.direct_sums = c.single_grids =
-        c.single_real_space = c.viscosity_ratio = c.periodic_viscosity_ratio = false;
+    c.consistent_load = c.drop = c.direct_sums = c.single_grids = c.single_real_space =
+        c.viscosity_ratio = c.periodic_viscosity_ratio = false;
     c.max_cut_fraction = 1.0 / 3.0;
     c.max_spread_support = kMaxSpreadSupport;
     return c;

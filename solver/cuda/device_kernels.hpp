@@ -3,6 +3,7 @@
 // declarations over device pointers, so that the host side (device_flow.cpp) is ordinary
 // C++. Every kernel is a loop over targets or sources around a host-device function of
 // membrane/ or stokes/; all run on the default stream, in order.
+#include "membrane/bending.hpp"
 #include "membrane/tension_field.hpp"
 #include "stokes/cells/cell_bins.hpp"
 #include "stokes/cells/sheared_lattice.hpp"
@@ -19,9 +20,16 @@ struct MeshView {
   const ElementReference* refs = nullptr;  // reference state per triangle
   const int* node_corner_offset = nullptr; // node a's corners: [offset[a], offset[a+1])
   const int* node_corner = nullptr;        // 3 * triangle + corner, one capsule
-  int tri_per_capsule = 0, nodes_per_capsule = 0, capsules = 0;
+  // The bending hinges (membrane/bending.hpp), none without bending: 4 local nodes
+  // (a, b, c, d) and the reference of each, and each node's hinge corners as above.
+  const int* hinges = nullptr;
+  const HingeReference* hinge_refs = nullptr;
+  const int* node_hinge_offset = nullptr;
+  const int* node_hinge = nullptr; // 4 * hinge + corner, one capsule
+  int tri_per_capsule = 0, nodes_per_capsule = 0, hinges_per_capsule = 0, capsules = 0;
   CAPSIM_HD int num_triangles() const { return tri_per_capsule * capsules; }
   CAPSIM_HD int num_nodes() const { return nodes_per_capsule * capsules; }
+  CAPSIM_HD int num_hinges() const { return hinges_per_capsule * capsules; }
 };
 
 // Each triangle's centroid and diameter (the near test).
@@ -35,11 +43,15 @@ struct TriangleBounds {
 // the neo-Hookean energy, or its relaxation with wrinkling (membrane_element).
 void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3* x,
                     Vec3* corner_grad, double* area);
-// Per node: the sum of its corners' gradients, plus extra[i] where extra is not null (the
-// repulsion's gradient); divided by the lumped node area (a third of the adjacent
+// dE/dx of every bending hinge at its four nodes (hinge_grad[4 h + k]), kb the bending
+// modulus (bending_hinge).
+void hinge_forces(const MeshView& mesh, double kb, const Vec3* x, Vec3* hinge_grad);
+// Per node: the sum of its corners' gradients, then of its hinge corners' where
+// hinge_grad is not null, then extra[i] where extra is not null (the repulsion's
+// gradient): the CPU's order; divided by the lumped node area (a third of the adjacent
 // triangles' areas) when lumped_load, which gives the traction q.
 void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
-                  const Vec3* extra, bool lumped_load, Vec3* out);
+                  const Vec3* hinge_grad, const Vec3* extra, bool lumped_load, Vec3* out);
 // Per triangle: its corners and loads, its bounds, and its 3-point rule as point sources
 // (y[3 e + g], f[3 e + g] = w_g A q(y_g)).
 void triangle_sources(const MeshView& mesh, const Vec3* x, const Vec3* q,

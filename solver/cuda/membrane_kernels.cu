@@ -1,6 +1,6 @@
 // Membrane forces, traction, triangle sources and the Runge-Kutta update on the device:
 // launch code around membrane/tension_field.hpp (the neo-Hookean element or its
-// relaxation) and stokes/quadrature/element_integrals.hpp.
+// relaxation), membrane/bending.hpp and stokes/quadrature/element_integrals.hpp.
 #include "cuda/device_kernels.hpp"
 #include "cuda/launch.cuh"
 #include "mesh/surface_geometry.hpp"
@@ -24,11 +24,26 @@ __global__ void element_forces_kernel(MeshView mesh, double gs, bool wrinkling,
   area[e] = 0.5 * norm(area_vector2(x0, x1, x2));
 }
 
+__global__ void hinge_forces_kernel(MeshView mesh, double kb, const Vec3* x,
+                                    Vec3* hinge_grad) {
+  const int h = blockIdx.x * blockDim.x + threadIdx.x;
+  if (h >= mesh.num_hinges())
+    return;
+  const int local = h % mesh.hinges_per_capsule;
+  const int base = (h / mesh.hinges_per_capsule) * mesh.nodes_per_capsule;
+  const int* n = mesh.hinges + 4 * local;
+  Vec3 g[4];
+  bending_hinge(mesh.hinge_refs[local], kb, x[base + n[0]], x[base + n[1]],
+                x[base + n[2]], x[base + n[3]], g);
+  for (int k = 0; k < 4; ++k)
+    hinge_grad[4 * h + k] = g[k];
+}
+
 // A gather over each node's corners instead of atomics: the sum runs in a fixed order,
 // so results are reproducible and match the CPU assembly to rounding.
 __global__ void gather_nodes_kernel(MeshView mesh, const Vec3* corner_grad,
-                                    const double* area, const Vec3* extra,
-                                    bool lumped_load, Vec3* out) {
+                                    const double* area, const Vec3* hinge_grad,
+                                    const Vec3* extra, bool lumped_load, Vec3* out) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= mesh.num_nodes())
     return;
@@ -40,6 +55,11 @@ __global__ void gather_nodes_kernel(MeshView mesh, const Vec3* corner_grad,
     const int e = tri_base + mesh.node_corner[j] / 3, k = mesh.node_corner[j] % 3;
     g += corner_grad[3 * e + k];
     node_area += area[e] / 3.0;
+  }
+  if (hinge_grad) {
+    const int hinge_base = (i / mesh.nodes_per_capsule) * mesh.hinges_per_capsule;
+    for (int j = mesh.node_hinge_offset[a]; j < mesh.node_hinge_offset[a + 1]; ++j)
+      g += hinge_grad[4 * (hinge_base + mesh.node_hinge[j] / 4) + mesh.node_hinge[j] % 4];
   }
   if (extra) // after the element sum, as the CPU adds the repulsion to its gradient
     g += extra[i];
@@ -87,10 +107,17 @@ void element_forces(const MeshView& mesh, double gs, bool wrinkling, const Vec3*
   check_launch("element_forces");
 }
 
+void hinge_forces(const MeshView& mesh, double kb, const Vec3* x, Vec3* hinge_grad) {
+  CAPSIM_LAUNCH(hinge_forces_kernel, blocks_for(mesh.num_hinges()), kBlock)
+  (mesh, kb, x, hinge_grad);
+  check_launch("hinge_forces");
+}
+
 void gather_nodes(const MeshView& mesh, const Vec3* corner_grad, const double* area,
-                  const Vec3* extra, bool lumped_load, Vec3* out) {
+                  const Vec3* hinge_grad, const Vec3* extra, bool lumped_load,
+                  Vec3* out) {
   CAPSIM_LAUNCH(gather_nodes_kernel, blocks_for(mesh.num_nodes()), kBlock)
-  (mesh, corner_grad, area, extra, lumped_load, out);
+  (mesh, corner_grad, area, hinge_grad, extra, lumped_load, out);
   check_launch("gather_nodes");
 }
 

@@ -95,6 +95,9 @@ public:
   MembraneLaw law() const { return law_; }
   // The reference state of every element (what a device copy of the membrane needs).
   const std::vector<ElementReference>& references() const { return refs_; }
+  // Every hinge and its reference (membrane/bending.hpp); empty when kb = 0.
+  const std::vector<Hinge>& hinges() const { return hinges_; }
+  const std::vector<HingeReference>& hinge_references() const { return hinge_refs_; }
 
 private:
   Topology topo_;

@@ -134,6 +134,12 @@ bool run_backend_selftest(Backend backend, std::ostream& out) {
     close.push_back(p);
   compare_case(r, "periodic (spectral), 2 capsules, repulsion", membrane, 2, box, backend,
                close, dt, 3, RepulsionOptions{0.1, 5.0});
+  // The grid's bending points: eb 0.025 (kb = eb Gs a^2) with the repulsion.
+  const double eb = 0.025;
+  const Membrane bending(mesh.topology, mesh.positions.data(), 1.0 / ca, eb / ca);
+  compare_case(r, "periodic (spectral), 2 capsules, bending, repulsion", bending, 2, box,
+               backend, close, automatic_time_step(ca, h, 0.5, eb), 3,
+               RepulsionOptions{0.1, 5.0});
   out << "capsim selftest: " << (r.passed ? "passed" : "FAILED") << "\n";
   return r.passed;
 }

@@ -17,7 +17,7 @@ std::string unsupported_by(const FlowSetup& s, const FlowCapabilities& caps,
   if (s.load != LoadMapping::lumped && !caps.consistent_load)
     m << "membrane.load: must be lumped" << with << ", got '" << to_string(s.load) << "'";
   else if (membrane.bending_modulus() > 0 && !caps.bending)
-    m << "membrane.bending: must be 0" << with << " (bending runs on the CPU only), got "
+    m << "membrane.bending: must be 0" << with << " (this backend has no bending), got "
       << membrane.bending_modulus() / membrane.shear_modulus();
   else if (membrane.law() == MembraneLaw::drop && !caps.drop)
     m << "membrane.law: must be neo_hookean" << with
