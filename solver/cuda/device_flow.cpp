@@ -44,25 +44,39 @@ struct DeviceFlow::Impl {
   void add_real_space(const ShearedLattice& g, const Vec3* xd, Vec3* ud);
 };
 
+namespace {
+
+// Each node's corners: its places in `nodes`, the nodes of each element in turn (corner k
+// of element e at n e + k for elements of n nodes), as offsets into one list, in element
+// order: the order in which the CPU adds each node's gradients.
+struct NodeCorners {
+  std::vector<int> offset, corners;
+};
+NodeCorners node_corners(const std::vector<int>& nodes, int num_nodes) {
+  NodeCorners c{std::vector<int>(num_nodes + 1, 0), std::vector<int>(nodes.size())};
+  for (int n : nodes)
+    ++c.offset[n + 1];
+  for (int a = 0; a < num_nodes; ++a)
+    c.offset[a + 1] += c.offset[a];
+  std::vector<int> fill(c.offset.begin(), c.offset.end() - 1);
+  for (size_t j = 0; j < nodes.size(); ++j)
+    c.corners[fill[nodes[j]]++] = int(j);
+  return c;
+}
+
+} // namespace
+
 void DeviceFlow::Impl::upload_mesh(const Membrane& membrane, int num_capsules) {
   const Topology& topo = membrane.topology();
   const int nt = int(topo.triangles.size()), nn = topo.num_nodes;
-  std::vector<int> tri(3 * nt), offset(nn + 1, 0), corners(3 * nt);
-  for (int e = 0; e < nt; ++e)
-    for (int k = 0; k < 3; ++k) {
-      tri[3 * e + k] = topo.triangles[e][k];
-      ++offset[topo.triangles[e][k] + 1];
-    }
-  for (int a = 0; a < nn; ++a)
-    offset[a + 1] += offset[a];
-  // Corners in element order: each node sums its gradients in the CPU assembly's order.
-  std::vector<int> fill(offset.begin(), offset.end() - 1);
+  std::vector<int> tri(3 * nt);
   for (int e = 0; e < nt; ++e)
     for (int k = 0; k < 3; ++k)
-      corners[fill[topo.triangles[e][k]]++] = 3 * e + k;
+      tri[3 * e + k] = topo.triangles[e][k];
+  const NodeCorners c = node_corners(tri, nn);
   triangles.upload(tri);
-  corner_offset.upload(offset);
-  corner.upload(corners);
+  corner_offset.upload(c.offset);
+  corner.upload(c.corners);
   refs.upload(membrane.references());
   mesh.triangles = triangles.data();
   mesh.refs = refs.data();
@@ -74,35 +88,23 @@ void DeviceFlow::Impl::upload_mesh(const Membrane& membrane, int num_capsules) {
   upload_hinges(membrane);
 }
 
-// Each node's hinge corners in hinge order, as the CPU adds the hinges' gradients.
 void DeviceFlow::Impl::upload_hinges(const Membrane& membrane) {
   const std::vector<Hinge>& hs = membrane.hinges();
   if (hs.empty())
     return;
-  const int nh = int(hs.size()), nn = membrane.topology().num_nodes;
-  std::vector<int> nodes(4 * nh), offset(nn + 1, 0), corners(4 * nh);
-  for (int h = 0; h < nh; ++h) {
-    const int n[4] = {hs[h].a, hs[h].b, hs[h].c, hs[h].d};
-    for (int k = 0; k < 4; ++k) {
-      nodes[4 * h + k] = n[k];
-      ++offset[n[k] + 1];
-    }
-  }
-  for (int a = 0; a < nn; ++a)
-    offset[a + 1] += offset[a];
-  std::vector<int> fill(offset.begin(), offset.end() - 1);
-  for (int h = 0; h < nh; ++h)
-    for (int k = 0; k < 4; ++k)
-      corners[fill[nodes[4 * h + k]]++] = 4 * h + k;
+  std::vector<int> nodes;
+  for (const Hinge& h : hs)
+    nodes.insert(nodes.end(), {h.a, h.b, h.c, h.d});
+  const NodeCorners c = node_corners(nodes, membrane.topology().num_nodes);
   hinges.upload(nodes);
-  hinge_offset.upload(offset);
-  hinge_corner.upload(corners);
+  hinge_offset.upload(c.offset);
+  hinge_corner.upload(c.corners);
   hinge_refs.upload(membrane.hinge_references());
   mesh.hinges = hinges.data();
   mesh.hinge_refs = hinge_refs.data();
   mesh.node_hinge_offset = hinge_offset.data();
   mesh.node_hinge = hinge_corner.data();
-  mesh.hinges_per_capsule = nh;
+  mesh.hinges_per_capsule = int(hs.size());
 }
 
 DeviceFlow::DeviceFlow(const FlowSetup& setup)
