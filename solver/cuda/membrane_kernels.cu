@@ -57,9 +57,9 @@ __global__ void gather_nodes_kernel(MeshView mesh, const Vec3* corner_grad,
     node_area += area[e] / 3.0;
   }
   if (hinge_grad) {
-    const int hinge_base = (i / mesh.nodes_per_capsule) * mesh.hinges_per_capsule;
+    const int capsule_base = 4 * (i / mesh.nodes_per_capsule) * mesh.hinges_per_capsule;
     for (int j = mesh.node_hinge_offset[a]; j < mesh.node_hinge_offset[a + 1]; ++j)
-      g += hinge_grad[4 * (hinge_base + mesh.node_hinge[j] / 4) + mesh.node_hinge[j] % 4];
+      g += hinge_grad[capsule_base + mesh.node_hinge[j]];
   }
   if (extra) // after the element sum, as the CPU adds the repulsion to its gradient
     g += extra[i];
