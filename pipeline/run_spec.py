@@ -300,8 +300,12 @@ class RunSpec:
 
     def resume_options(self, threads):
         """Every `--set` of a resume: the keys capsim lets change on resume (it refuses
-        the rest), so that a raised t_end or another thread count carries on the run."""
-        return {"t_end": self.t_end, "t_avg_start": self.t_avg_start, "threads": threads}
+        the rest), so that a raised t_end, another thread count or the configuration's
+        backend (a run continued on a GPU, whichever backend began it) carries on the
+        run."""
+        out = {"t_end": self.t_end, "t_avg_start": self.t_avg_start, "threads": threads}
+        backend = dict(self.options).get("backend")
+        return out if backend is None else {**out, "backend": backend}
 
     def command(self, capsim, threads, pause_at=None, root="."):
         """The `capsim run` command of the run's next stretch, and whether it resumes:

@@ -87,6 +87,14 @@ def test_fresh_resumed_and_segment_commands(tmp_path, monkeypatch):
                    "--set", "t_end=30", "--set", "t_avg_start=10", "--set", "threads=1"]
     cmd, _ = GRID_RUN.command("capsim", threads=1, root="/elsewhere")
     assert "-o" in cmd and cmd[-1] == f"/elsewhere/{GRID_RUN.folder}"
+    # The configuration's backend goes with every stretch: a segmented run (or a record
+    # continued) on a GPU partition keeps to the GPU, whichever backend began it.
+    on_gpu = dataclasses.replace(
+        GRID_RUN, options=tuple(sorted(GRID_RUN.options + (("backend", "cuda"),))))
+    cmd, resumed = on_gpu.command("capsim", threads=4)
+    assert resumed and cmd[-2:] == ["--set", "backend=cuda"]
+    fresh, _ = on_gpu.command("capsim", threads=4, root="/elsewhere")
+    assert fresh.count("backend=cuda") == 1
 
 
 def quantitative_specs():
