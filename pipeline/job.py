@@ -12,12 +12,12 @@ result (RunSpec.stop_is_result). Nothing is parsed back from a name or from word
 
 A folder that holds a checkpoint (a run that was killed, a segment that paused, a run
 restored from the archive, one whose t_end was raised) is continued with `capsim run
---resume RUN_DIR` and the keys capsim lets change on resume (t_end, t_avg_start, threads,
-the configuration's backend); otherwise the run starts afresh with all its keys. With
---pause-at the job is segment K of the run: capsim stops at its first checkpoint at or after T (`capsim run
---pause-at`), the job writes the segment's marker (pipeline.archive.marker()), and the
-next segment resumes it to the last bit; a folder whose checkpoint is already at T
-(restored from the archive) runs nothing. Either way:
+--resume RUN_DIR` and the keys capsim lets change on resume (t_end, t_avg_start,
+threads, the configuration's backend); otherwise the run starts afresh with all its
+keys. With --pause-at the job is segment K of the run: capsim stops at its first
+checkpoint at or after T (`capsim run --pause-at`), the job writes the segment's marker
+(pipeline.archive.marker()), and the next segment resumes it to the last bit; a folder
+whose checkpoint is already at T (restored from the archive) runs nothing. Either way:
 
 - capsim's output is appended to LOG after one line that says what this attempt does
   (snakemake removes a job's old log before it starts the job, so there LOG holds the
