@@ -4,7 +4,7 @@ seconds per capsule per unit strain, the averages of D, mu_sp and N1 over the wi
 with block standard errors, and the candidate's relative difference from the baseline.
 
 Usage: .venv/bin/python benchmarks/time_scheme_study.py [--cases dilute,table1,...]
-           [--capsim PATH] [--threads 2]
+           [--capsim PATH] [--threads 2] [--out benchmarks/records/FILE.json]
 Cases (names, or a comma-separated list of them):
   dilute     one capsule, Ca 0.2, 0.4, 0.6 at mesh levels 2, 3, 4, t = 20, window
              [10, 20]: Heun at the default step against IMEX at time.tolerance 1e-3
@@ -20,9 +20,16 @@ Cases (names, or a comma-separated list of them):
              Heun at dt_safety 1 with ewald.tolerance 1e-4 (the best explicit run)
              against IMEX at time.tolerance 1e-3 (max norm) and at 3e-3 and 1e-2 (rms
              norm), same Ewald tolerance
-Every run samples every 0.25 strain units. Runs are kept in results/benchmarks/schemes/
-and reused when finished, so the study can be run in pieces. Writes
-results/benchmarks/time_schemes.json and .md.
+  bending    a bending point of the quantitative grid (Ca 0.3, phi 0.4, M = 27, level 3,
+             eb 0.025, F0 5, the configuration's run options), from rest to t = 2,
+             window [1, 2]: Heun at dt_safety 1 (the grid's run) against IMEX at
+             time.tolerance auto and 1e-3, and Heun at dt_safety 0.5 as the reference
+Every run samples every 0.25 strain units (the bending case every 0.05). Where a case has
+a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
+and N1 from the reference's over the run (the reference interpolated to the row's sample
+times by a cubic spline), relative to the reference's mean over the window. Runs are
+kept in results/benchmarks/schemes/ and reused when finished, so the study can be run in
+pieces. Writes results/benchmarks/time_schemes.json and .md.
 """
 
 import argparse
@@ -30,10 +37,13 @@ import dataclasses
 import json
 import math
 import pathlib
+import platform
 import subprocess
+from datetime import date
 
 import numpy as np
 import pandas as pd
+from scipy.interpolate import CubicSpline
 
 from analysis.read_run import read_timeseries
 from analysis.rheology import particle_stress
@@ -47,6 +57,7 @@ SAMPLES = {"output.sample_interval": 0.25, "output.snapshot_interval": 0}
 HEUN = {"time.scheme": "heun"}
 HEUN_1 = {"time.scheme": "heun", "dt_safety": 1.0}
 IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
+REFERENCE = "reference"  # the variant the others' series are held against, where given
 
 
 def imex_rms(tolerance):
@@ -79,6 +90,17 @@ def cases(name):
             yield (f"dilute_L4_Ca{ca}", dilute(4, ca),
                    [("heun_1", HEUN_1), ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
                     ("imex_rms_auto", imex_rms("auto"))])
+    elif name == "bending":
+        grid = {"ewald.tolerance": "auto", "ewald.precision": "double",
+                "ewald.real_space_precision": "double", "quadrature.near_ratio": 1.5,
+                "quadrature.far_ratio": 2, "output.sample_interval": 0.05}
+        common = RunSpec(study=STUDY, ca=0.3, level=3, t_end=2, t_avg_start=1, phi=0.4,
+                         M=27, seed=1, membrane="eb0.025+rep5",
+                         options=tuple(sorted(grid.items())))
+        yield ("bending", common, [("heun_1", HEUN_1),
+                                   ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
+                                   ("imex", IMEX),
+                                   (REFERENCE, {**HEUN, "dt_safety": 0.5})])
     elif name == "table1":
         common = RunSpec(study=STUDY, ca=0.2, level=3, t_end=20, t_avg_start=10, phi=0.3,
                          M=27, seed=1, options=(("ewald.tolerance", 1e-4),))
@@ -91,7 +113,7 @@ def cases(name):
 
 def variant_spec(common, label, variant, settings):
     """The RunSpec of one variant of a case, in the folder <case label>_<variant>."""
-    options = {**dict(common.options), **settings, **SAMPLES}
+    options = {**SAMPLES, **dict(common.options), **settings}
     return dataclasses.replace(common, options=tuple(sorted(options.items())),
                                label=f"{label}_{variant}")
 
@@ -115,18 +137,38 @@ def block_mean(values, blocks=5):
     return float(values.mean()), float(means.std(ddof=1) / math.sqrt(blocks))
 
 
+def mean_series(ts, spec):
+    """The suspension's mean D, mu_sp and N1 at each sample."""
+    stress = particle_stress(ts["stresslet"].mean(axis=1), spec.phi, spec.ca)
+    return {"D": ts["D"].mean(axis=1), "mu_sp": stress[:, 0, 1],
+            "N1": stress[:, 0, 0] - stress[:, 1, 1]}
+
+
+def series_error(folder, reference, spec):
+    """The largest difference of the mean D, mu_sp and N1 from the reference's over the
+    samples both runs cover, relative to the reference's window mean."""
+    ts, ref = read_timeseries(folder), read_timeseries(reference)
+    got, want = mean_series(ts, spec), mean_series(ref, spec)
+    inside = ts["time"] <= ref["time"][-1]
+    window = (ref["time"] >= spec.t_avg_start) & (ref["time"] <= spec.t_end)
+    out = {}
+    for key in got:
+        at = CubicSpline(ref["time"], want[key])(ts["time"][inside])
+        scale = abs(want[key][window].mean())
+        out[f"{key}_error"] = float(np.abs(got[key][inside] - at).max() / scale)
+    return out
+
+
 def measure(folder, spec):
     s = json.loads((folder / "summary.json").read_text())
     ts = read_timeseries(folder)
     inside = (ts["time"] >= spec.t_avg_start) & (ts["time"] <= spec.t_end)
-    stress = particle_stress(ts["stresslet"][inside].mean(axis=1), spec.phi, spec.ca)
     row = {"ended": s["ended"], "steps": s["steps"], "rejected": s.get("rejected_steps"),
            "mean_dt": s["dt"], "wall_s": s["wall_seconds"],
            "s_per_capsule_strain": s["wall_seconds"]
            / (s["parameters"]["capsules"] * spec.t_end)}
-    for name, series in (("D", ts["D"][inside].mean(axis=1)), ("mu_sp", stress[:, 0, 1]),
-                         ("N1", stress[:, 0, 0] - stress[:, 1, 1])):
-        row[name], row[name + "_se"] = block_mean(series)
+    for name, series in mean_series(ts, spec).items():
+        row[name], row[name + "_se"] = block_mean(series[inside])
     return row
 
 
@@ -135,19 +177,31 @@ def main():
     p.add_argument("--cases", default="dilute,dilute05,table1")
     p.add_argument("--capsim", type=pathlib.Path, default=ROOT / "build" / "capsim")
     p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--out", type=pathlib.Path,
+                   help="also write the rows as a record (date, machine, command) here")
     a = p.parse_args()
     (ROOT / "results" / STUDY).mkdir(parents=True, exist_ok=True)
     rows = []
     for name in a.cases.split(","):
         for label, common, variants in cases(name):
-            baseline = None
+            baseline, case_rows = None, []
             for variant, settings in variants:
                 spec = variant_spec(common, label, variant, settings)
-                row = {"case": label, "variant": variant, **measure(run(spec, a), spec)}
+                folder = run(spec, a)
+                row = {"case": label, "variant": variant, **measure(folder, spec)}
                 if baseline is None:
                     baseline = row
                 else:
                     row["speedup"] = baseline["wall_s"] / row["wall_s"]
+                case_rows.append((row, folder, spec))
+            reference = [f for row, f, _ in case_rows if row["variant"] == REFERENCE]
+            for row, folder, spec in case_rows:
+                if reference and row["variant"] != REFERENCE:
+                    row.update(series_error(folder, reference[0], spec))
+                elif not reference and row is not baseline:
+                    # Without a reference, the window averages against the baseline's
+                    # (runs sampled at other times differ by more than their error
+                    # where the averages still drift: the bending case from rest).
                     for key in ("D", "mu_sp", "N1"):
                         row[f"{key}_rel_diff"] = row[key] / baseline[key] - 1
                 rows.append(row)
@@ -155,6 +209,14 @@ def main():
     (OUT / "time_schemes.json").write_text(json.dumps(rows, indent=1))
     (OUT / "time_schemes.md").write_text(markdown_table(pd.DataFrame(rows), na_rep=""))
     print(f"wrote {OUT / 'time_schemes.json'}")
+    if a.out:
+        record = {"benchmark": "time_scheme_study", "date": date.today().isoformat(),
+                  "machine": f"{platform.machine()}, {a.threads} threads",
+                  "command": "python3 benchmarks/time_scheme_study.py --cases "
+                             f"{a.cases} --threads {a.threads}",
+                  "rows": rows}
+        a.out.write_text(json.dumps(record, indent=1) + "\n")
+        print(f"wrote {a.out}")
 
 
 if __name__ == "__main__":
