@@ -13,11 +13,12 @@ reports the time loop's seconds per capsule-strain (set-up excluded), the steps 
 evaluations, the second-kind solves (an output's solve serves the next step's first
 evaluation), the GMRES iterations per solve and the largest residual (summary.json),
 and the ratio of each cost to lambda = 1 at the same mesh. Each lambda != 1 runs at
-every gmres.tolerance T, gmres.guess G and time scheme S (heun, or rkcN: time.scheme
-rkc of N stages; capsim's defaults unless given; those cases are marked
-default_tolerance, default_guess and default_scheme: the cost model reads the case with
-all three) and once as the reference: Heun at the reference tolerance, with dt_safety
---reference-dt-safety (below 1 where the time scheme's error is to be seen too);
+every gmres.tolerance T, gmres.guess G and time scheme S (heun; rkcN: time.scheme
+rkc of N stages; imexT: time.scheme imex at time.tolerance T; capsim's defaults unless
+given; those cases are marked default_tolerance, default_guess and default_scheme: the
+cost model reads the case with all three) and once as the reference: Heun at the
+reference tolerance, with dt_safety --reference-dt-safety (below 1 where the time
+scheme's error is to be seen too);
 the record gives each cost and what T, G and S change against the reference: the largest
 node displacement at the end and the largest differences of D and of the stresslet
 over all samples (the mesh's own error in D is about 1e-2 at level 2, 5e-3 at level 3).
@@ -45,13 +46,19 @@ from pipeline.command_line import run_command  # noqa: E402
 
 
 def scheme_keys(name):
-    """capsim's keys of a --time-schemes word: default (none), heun or rkcN."""
+    """capsim's keys of a --time-schemes word: default (none), heun, rkcN or imexT."""
     if name in ("default", "heun"):
         return {} if name == "default" else {"time.scheme": "heun"}
     stages = name.removeprefix("rkc")
     if name.startswith("rkc") and stages.isdigit():
         return {"time.scheme": "rkc", "time.stages": int(stages)}
-    raise argparse.ArgumentTypeError(f"{name!r}: not default, heun or rkcN (N stages)")
+    if name.startswith("imex"):
+        try:
+            return {"time.scheme": "imex", "time.tolerance": float(name[4:])}
+        except ValueError:
+            pass
+    raise argparse.ArgumentTypeError(f"{name!r}: not default, heun, rkcN (N stages) or "
+                                     "imexT (time.tolerance T)")
 
 
 def run_case(capsim, level, lam, ca, strain, threads, scratch, capsules=1, phi=0.0,
@@ -85,8 +92,10 @@ def run_case(capsim, level, lam, ca, strain, threads, scratch, capsules=1, phi=0
 
 
 def scheme_name(parameters):
-    """heun, imex or rkcN, from a run's resolved parameters."""
+    """heun, imexT or rkcN, from a run's resolved parameters."""
     scheme = parameters.get("time.scheme", "heun")
+    if scheme == "imex":
+        return f"imex{float(parameters['time.tolerance']):g}"
     return f"rkc{parameters['time.stages']}" if scheme == "rkc" else scheme
 
 
@@ -146,8 +155,9 @@ def main(argv=None):
                     choices=["default", "previous", "extrapolated"],
                     help="gmres.guess of the timed cases (default: capsim's)")
     ap.add_argument("--time-schemes", nargs="+", default=["default"], type=str,
-                    help="time schemes of the timed cases: default (capsim's), heun or "
-                    "rkcN (time.scheme rkc of N stages)")
+                    help="time schemes of the timed cases: default (capsim's), heun, "
+                    "rkcN (time.scheme rkc of N stages) or imexT (time.scheme imex at "
+                    "time.tolerance T)")
     ap.add_argument("--reference-dt-safety", type=float, default=1.0,
                     help="dt_safety of the reference (Heun): below 1 to see the time "
                     "schemes' error too")
