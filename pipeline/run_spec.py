@@ -78,6 +78,12 @@ UNUSED_AT_LAMBDA_1 = ("gmres.",)  # the second-kind solve's: no solve at lambda 
 
 
 EDGE_LEVEL3 = 0.151  # mean edge length of the level-3 icosphere of radius 1
+# imex at a given time.tolerance T (max norm) in a dense suspension: its mean step about
+# 0.75 sqrt(T), each step 1.15 times Heun's wall time (Ca 0.3, phi 0.4, M 27, level 3,
+# eb 0.025: steps 0.0233 at 1e-3 and 0.0085 at 1.3e-4, 0.97 and 0.95 s each against
+# Heun's 0.82 s; benchmarks/records/time_schemes_bending.json).
+IMEX_STEP_PER_ROOT_TOLERANCE = 0.75
+IMEX_STEP_COST = 1.15
 
 
 def number(value):
@@ -343,7 +349,10 @@ class RunSpec:
         benchmarks/records/build_compare_defaults.json, whose step was 1.22-1.26 times
         the profile's, build_compare.json). A capsule of another viscosity (lambda != 1)
         solves for its velocity each evaluation: lambda_cost_ratio times lambda 1's
-        cost."""
+        cost. imex at a given time.tolerance T takes steps of about 0.75 sqrt(T) that
+        bending does not shorten, each 1.15 times Heun's (measured at a dense bending
+        point, where the model gives 2.46 times less than Heun against 2.35 measured);
+        at time.tolerance auto it is estimated as Heun (within 15 % there)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         eb = membrane_codes.parse(self.membrane, "membrane").get("eb", 0.0)
@@ -359,7 +368,16 @@ class RunSpec:
                                    dense=not self.dilute,
                                    tolerance=None if tolerance is None
                                    else float(option_value(tolerance)))
-        return (base * per_level * stiff * 0.2 / self.ca * (0.56 if present else 1.0)
+        # The time loop's cost against Heun's at the Table 1 point (dt = 0.2 h): Heun's
+        # steps per strain, or imex's times the cost of its step.
+        stepping = stiff * 0.2 / self.ca
+        tolerance = option_value(given.get("time.tolerance", "auto"))
+        if option_value(given.get("time.scheme", "")) == "imex" and \
+                tolerance != "auto" and float(tolerance) > 0:
+            edge = EDGE_LEVEL3 * 2.0 ** (3 - self.level)
+            step = IMEX_STEP_PER_ROOT_TOLERANCE * math.sqrt(float(tolerance))
+            stepping = 0.2 * edge / step * IMEX_STEP_COST
+        return (base * per_level * stepping * (0.56 if present else 1.0)
                 * (0.57 if rkc3 else 1.0) * solved)
 
     def segment_ends(self, minutes=None, strain=None):

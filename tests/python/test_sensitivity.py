@@ -34,6 +34,8 @@ def config_block(name="config.yaml"):
     ("wrinkling", ["membrane.wrinkling=true"]),
     ("eb0.05", ["membrane.bending=0.05"]),
     ("eb0.01+imex", ["membrane.bending=0.01", "time.scheme=imex", "time.tolerance=auto"]),
+    ("imex1e-3+rep5+eb0.025", ["membrane.bending=0.025", "suspension.repulsion_force=5",
+                               "time.scheme=imex", "time.tolerance=0.001"]),
     ("consistent+rep5", ["suspension.repulsion_force=5", "membrane.load=consistent",
                          "dt_safety=0.2"]),
     ("eb0.01+wrinkling", ["membrane.wrinkling=true", "membrane.bending=0.01"]),
@@ -58,7 +60,8 @@ def test_a_code_overrides_the_run_options():
 
 @pytest.mark.parametrize("code", ["bending", "eb", "ebx", "eb0", "eb-0.1", "eb2",
                                   "paper+eb0.01", "wrinkling+wrinkling", "eb0.01+eb0.02",
-                                  "Wrinkling", "", "rep", "rep0", "rep101", "rep5+rep1"])
+                                  "Wrinkling", "", "rep", "rep0", "rep101", "rep5+rep1",
+                                  "imex0", "imex0.2", "imexx", "imex+imex1e-3"])
 def test_bad_membrane_codes_name_the_key_and_the_forms(code):
     with pytest.raises(ValueError, match=r"sensitivity\.membranes: .*allowed: paper"):
         membrane.options(code)
@@ -69,6 +72,8 @@ def test_canonical_spelling():
     assert membrane.membrane_part("eb0.01+imex") == "eb0.01"
     assert membrane.canonical("rep5.0+wrinkling") == "wrinkling+rep5"
     assert membrane.membrane_part("imex+rep5+eb0.025") == "eb0.025"
+    assert membrane.canonical("imex1e-3+rep5.0+eb0.025") == "eb0.025+rep5+imex0.001"
+    assert membrane.membrane_part("eb0.025+imex0.001") == "eb0.025"
     assert membrane.membrane_part("consistent+rep5") == "paper"
 
 
