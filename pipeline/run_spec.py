@@ -371,11 +371,11 @@ class RunSpec:
         # The time loop's cost against Heun's at the Table 1 point (dt = 0.2 h): Heun's
         # steps per strain, or imex's times the cost of its step.
         stepping = stiff * 0.2 / self.ca
-        tolerance = option_value(given.get("time.tolerance", "auto"))
+        time_tolerance = option_value(given.get("time.tolerance", "auto"))
         if option_value(given.get("time.scheme", "")) == "imex" and \
-                tolerance != "auto" and float(tolerance) > 0:
+                time_tolerance != "auto" and float(time_tolerance) > 0:
             edge = EDGE_LEVEL3 * 2.0 ** (3 - self.level)
-            step = IMEX_STEP_PER_ROOT_TOLERANCE * math.sqrt(float(tolerance))
+            step = IMEX_STEP_PER_ROOT_TOLERANCE * math.sqrt(float(time_tolerance))
             stepping = 0.2 * edge / step * IMEX_STEP_COST
         return (base * per_level * stepping * (0.56 if present else 1.0)
                 * (0.57 if rkc3 else 1.0) * solved)
