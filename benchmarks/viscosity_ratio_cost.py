@@ -41,6 +41,7 @@ from scipy.interpolate import CubicSpline
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from analysis.accuracy import time_options  # noqa: E402
 from analysis.read_run import read_summary, read_timeseries  # noqa: E402
 from pipeline.command_line import run_command  # noqa: E402
 
@@ -52,9 +53,9 @@ def scheme_keys(name):
     stages = name.removeprefix("rkc")
     if name.startswith("rkc") and stages.isdigit():
         return {"time.scheme": "rkc", "time.stages": int(stages)}
-    if name.startswith("imex"):
+    if name.startswith("imex"):  # the accuracy study's time codes (imex<T>, imexrms<T>)
         try:
-            return {"time.scheme": "imex", "time.tolerance": float(name[4:])}
+            return dict(option.split("=", 1) for option in time_options(name))
         except ValueError:
             pass
     raise argparse.ArgumentTypeError(f"{name!r}: not default, heun, rkcN (N stages) or "
