@@ -133,10 +133,12 @@ wait "$cluster_pid" || cluster_rc=$?
 echo "test: Python cluster tests (started in the background) took $(($(date +%s) - cluster_start)) s from their start:"
 cat "$CLUSTER_LOG"
 rm -f "$CLUSTER_LOG"
-# The rest of the Python suite; the slowest tests' times are listed before the summary.
+# The rest of the Python suite on $JOBS workers (pytest-xdist; --dist loadfile: a file's
+# tests on one worker, so its module fixtures are made once); the slowest tests' times
+# are listed before the summary.
 echo "test: Python suite (pytest, the cluster tests above excepted)"
 pytest_rc=0
-.venv/bin/python -m pytest tests/python -q --durations=12 \
+.venv/bin/python -m pytest tests/python -q --durations=12 -n "$JOBS" --dist loadfile \
   $(printf -- '--ignore=%s ' "${CLUSTER_TESTS[@]}") || pytest_rc=$?
 
 # Nothing is printed after this point, so pytest's summary stays the last line.
