@@ -78,10 +78,13 @@ UNUSED_AT_LAMBDA_1 = ("gmres.",)  # the second-kind solve's: no solve at lambda 
 
 
 EDGE_LEVEL3 = 0.151  # mean edge length of the level-3 icosphere of radius 1
-# imex at a given time.tolerance T (max norm) in a dense suspension: its mean step about
-# 0.75 sqrt(T), each step 1.15 times Heun's wall time (Ca 0.3, phi 0.4, M 27, level 3,
-# eb 0.025: steps 0.0233 at 1e-3 and 0.0085 at 1.3e-4, 0.97 and 0.95 s each against
-# Heun's 0.82 s; benchmarks/records/time_schemes_bending.json).
+# imex at a given time.tolerance T (max norm) in a dense suspension from rest: its mean
+# step about 0.75 sqrt(T), each step 1.15 times Heun's wall time (Ca 0.3, phi 0.4, M 27,
+# level 3, eb 0.025, to t = 2: steps 0.0233 at 1e-3 and 0.0085 at 1.3e-4, 0.97 and
+# 0.95 s each against Heun's 0.82 s; benchmarks/records/time_schemes_bending.json). In
+# the developed suspension its step at 1e-3 is about half that (0.0125-0.0135) and 1.26
+# times Heun's in cost (docs/time_stepping.md): the model overstates imex's gain there
+# about twofold, until a study from a developed state recalibrates it.
 IMEX_STEP_PER_ROOT_TOLERANCE = 0.75
 IMEX_STEP_COST = 1.15
 
