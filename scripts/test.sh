@@ -101,7 +101,8 @@ bash scripts/setup.sh
 # The cluster tests (test_slurm.py, and test_workflow_ci.py, whose local ci workflow
 # test_slurm.py compares with) spend most of their five minutes waiting for SLURM: they
 # run in the background while the sanitized build and the C++ suites keep the cores
-# busy (about 3 minutes less in all than after them), and their report follows ctest's.
+# busy (99 s less in all than after them on 2 cores, docs/reliability.md), and their
+# report follows ctest's.
 CLUSTER_TESTS=(tests/python/test_slurm.py tests/python/test_workflow_ci.py)
 CLUSTER_LOG=$(mktemp)
 echo "test: Python cluster tests (${CLUSTER_TESTS[*]}) started in the background"
