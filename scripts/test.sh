@@ -140,7 +140,7 @@ rm -f "$CLUSTER_LOG"
 echo "test: Python suite (pytest, the cluster tests above excepted)"
 pytest_rc=0
 .venv/bin/python -m pytest tests/python -q --durations=12 -n "$JOBS" --dist loadfile \
-  $(printf -- '--ignore=%s ' "${CLUSTER_TESTS[@]}") || pytest_rc=$?
+  "${CLUSTER_TESTS[@]/#/--ignore=}" || pytest_rc=$?
 
 # Nothing is printed after this point, so pytest's summary stays the last line.
 if [ "$ctest_rc" -ne 0 ]; then exit "$ctest_rc"; fi
