@@ -247,6 +247,17 @@ def test_a_dense_run_is_the_grid_s_suspension_with_lambda_and_the_block_s_option
         run_spec.viscosity_ratio_dense(keys, 1, grid, 10, {})
 
 
+def test_a_dense_run_keeps_the_grid_s_t_end_where_the_grid_s_point_runs_longer():
+    # grid.t_end_at lengthens the lambda = 1 run for the O(phi^3) shares; the dense
+    # study's runs at other ratios stay at the grid's t_end (and so their records).
+    keys = dict(ca=0.2, phi=0.1, M=27, level=3, seed=1)
+    grid = {"t_end": 30, "ca": [0.2], "phi": [0.1, 0.3],
+            "t_end_at": [{"ca": 0.2, "phi": 0.1, "t_end": 150}]}
+    assert run_spec.suspension("grid", keys, grid, 10, {}).t_end == 150
+    spec = run_spec.viscosity_ratio_dense(keys, 0.2, grid, 10, {})
+    assert (spec.t_end, spec.t_avg_start) == (30, 10)
+
+
 def test_a_dense_run_s_cost_is_the_benchmark_s_at_its_scale_and_tolerance():
     # The benchmark's M 27, level 3 cases at gmres.tolerance 1e-5 price the dense study's
     # runs; a run at the default tolerance takes the M 8, level 2 cases at the defaults.

@@ -11,12 +11,13 @@
 #
 # Its dense part (viscosity_ratio.dense: ca, phi, lambda, options), by its own target
 # `snakemake viscosity_ratio_dense`: the grid's suspension (its M, mesh level, t_end, seed,
-# membrane and run options) at the block's Ca and phi with interior viscosity lambda and
-# the block's further options, results/viscosity_ratio/ca<Ca>_phi<phi>_..._lambda<r>; lambda
-# 1 is the grid's own run. A dense run at lambda 5 costs about 27 times lambda 1's
-# (docs/method.md), so they are long: segments of about an hour (run_segment), each
-# archived. With its own on_page (dense.on_page, set once its runs are archived), the
-# results page shows its table and figure too.
+# membrane and run options; not a point's longer grid.t_end_at) at the block's Ca and phi
+# with interior viscosity lambda and the block's further options,
+# results/viscosity_ratio/ca<Ca>_phi<phi>_..._lambda<r>; lambda 1 is the grid's own run. A
+# dense run at lambda 5 costs about 27 times lambda 1's (docs/method.md), so they are long:
+# segments of about an hour (run_segment), each archived. With its own on_page
+# (dense.on_page, set once its runs are archived), the results page shows its table and
+# figure too.
 # Output: results/viscosity_ratio/dense.csv (and .md), results/figures/viscosity_ratio_dense.png.
 import json
 
