@@ -34,7 +34,7 @@ CLI::Validator whole_number() {
 }
 
 struct RunArgs {
-  std::string runfile, outdir, resume_dir;
+  std::string runfile, outdir, resume_dir, branch_dir;
   std::vector<std::string> sets;
   bool quiet = false;
   double pause_at = 0;
@@ -56,6 +56,15 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       "--resume", a.resume_dir,
       "continue the run in this folder from its last checkpoint (with --set, only "
       "t_end, t_avg_start, threads, backend and output.* may change)");
+  run->add_option(
+         "--branch", a.branch_dir,
+         "start a new run (-o) from the last checkpoint of the run in this folder, its "
+         "time "
+         "series up to there included; with --set, the keys of --resume and the numerics "
+         "(method, dt, dt_safety, time.*, ewald.*, quadrature.*, gmres.*) may change, "
+         "e.g. "
+         "to compare time schemes from a developed suspension")
+      ->check(CLI::ExistingDirectory);
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
   run->add_option("--pause-at", a.pause_at,
                   "run one segment: stop at the first checkpoint at or after this "
@@ -311,11 +320,18 @@ int run_command(const RunArgs& a) {
   capsim::RunRequest request;
   request.quiet = a.quiet;
   if (!a.resume_dir.empty()) {
-    if (!a.runfile.empty() || !a.outdir.empty())
+    if (!a.runfile.empty() || !a.outdir.empty() || !a.branch_dir.empty())
       throw capsim::ConfigError("--resume takes its options from the checkpoint: give no "
-                                "RUNFILE and no -o with it");
+                                "RUNFILE, no -o and no --branch with it");
     request.resume = true;
     request.outdir = a.resume_dir;
+    request.resume_overrides = a.sets;
+  } else if (!a.branch_dir.empty()) {
+    if (!a.runfile.empty() || a.outdir.empty())
+      throw capsim::ConfigError("--branch takes its options from the checkpoint: give no "
+                                "RUNFILE, and the new run's folder with -o");
+    request.branch_from = a.branch_dir;
+    request.outdir = a.outdir;
     request.resume_overrides = a.sets;
   } else {
     if (a.outdir.empty())

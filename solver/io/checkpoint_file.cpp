@@ -50,6 +50,8 @@ void check_finite(const Checkpoint& c) {
     fail("/time", c.time);
   if (!(std::isfinite(c.next_dt) && c.next_dt >= 0))
     fail("/next_dt", c.next_dt);
+  if (!(std::isfinite(c.sample_origin_time) && c.sample_origin_time >= 0))
+    fail("/sample_origin_time", c.sample_origin_time);
   for (std::size_t i = 0; i < c.volume0.size(); ++i)
     if (!(std::isfinite(c.volume0[i]) && c.volume0[i] > 0))
       fail("/volume0", c.volume0[i], " of capsule " + std::to_string(i));
@@ -70,6 +72,11 @@ void write_contents(const std::string& file_path, const Checkpoint& c) {
   h5::write_scalar<std::int32_t>(f, "/nodes_per_capsule", c.nodes_per_capsule);
   h5::write_scalar<double>(f, "/next_dt", c.next_dt);
   h5::write_scalar<std::int64_t>(f, "/rejected_steps", c.rejected_steps);
+  // Only where it is not (0, 0), so that every other checkpoint stays as it was.
+  if (c.sample_origin_time != 0 || c.sample_origin_index != 0) {
+    h5::write_scalar<double>(f, "/sample_origin_time", c.sample_origin_time);
+    h5::write_scalar<std::int64_t>(f, "/sample_origin_index", c.sample_origin_index);
+  }
   h5::write_dataset(f, "/volume0", {c.volume0.size()}, c.volume0.data());
   std::vector<double> xyz;
   xyz.reserve(3 * c.positions.size());
@@ -120,6 +127,10 @@ Checkpoint read_checkpoint(const std::string& path) {
     if (H5Lexists(f, "/next_dt", H5P_DEFAULT) > 0) {
       c.next_dt = h5::read_scalar<double>(f, "/next_dt");
       c.rejected_steps = h5::read_scalar<std::int64_t>(f, "/rejected_steps");
+    }
+    if (H5Lexists(f, "/sample_origin_time", H5P_DEFAULT) > 0) {
+      c.sample_origin_time = h5::read_scalar<double>(f, "/sample_origin_time");
+      c.sample_origin_index = h5::read_scalar<std::int64_t>(f, "/sample_origin_index");
     }
     if (c.num_capsules < 1 || c.nodes_per_capsule < 0)
       throw std::runtime_error("num_capsules " + std::to_string(c.num_capsules) +

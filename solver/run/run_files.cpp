@@ -27,6 +27,15 @@ void RunFiles::prepare_fresh(const std::string& dir) {
   fs::remove(probe);
 }
 
+void RunFiles::copy_series(const std::string& from, const std::string& dir) {
+  std::error_code ec;
+  fs::copy_file(from + "/timeseries.h5", dir + "/timeseries.h5",
+                fs::copy_options::overwrite_existing, ec);
+  if (ec)
+    throw std::runtime_error("cannot copy " + from + "/timeseries.h5 into " + dir + ": " +
+                             ec.message());
+}
+
 void RunFiles::start(const RunOptions& o) const {
   write_text_atomically(dir_ + "/run.yaml", to_yaml(o));
   TimeseriesWriter(series_path(), num_capsules_).commit(); // an empty file

@@ -21,6 +21,9 @@ public:
 
   // Refuses a folder that already holds a run; checks that the folder can be written.
   static void prepare_fresh(const std::string& dir);
+  // A branch's time series: the one of the run in `from`, copied into `dir` (its rows
+  // after the checkpoint are dropped as on a resume).
+  static void copy_series(const std::string& from, const std::string& dir);
   // A fresh run: run.yaml and an empty time series.
   void start(const RunOptions& o) const;
   // Stops a resume before any file is changed when the time series is damaged or holds

@@ -68,6 +68,16 @@ void RunLoop::start_from(const Checkpoint& c) {
   v0_ = c.volume0;
   clock_.resume(c.step, c.time, c.next_dt, c.rejected_steps);
   files_.resume(c, o_);
+  sample_origin_time_ = c.sample_origin_time;
+  sample_origin_index_ = long(c.sample_origin_index);
+  // A checkpoint is written at a sample. Where that sample is not on this run's grid (an
+  // adaptive branch from a fixed step, or a resume with another output.sample_interval),
+  // the grid starts again there, so that no sample falls before the checkpoint.
+  const long last = long(c.samples_written) - 1;
+  if (!clock_.fixed() && last >= 0 && sample_time(last) != c.time) {
+    sample_origin_time_ = c.time;
+    sample_origin_index_ = last;
+  }
 }
 
 // A SimulationError leaves the loop with the samples taken since the last checkpoint
@@ -88,10 +98,9 @@ void RunLoop::run() {
 // The one time loop. Each step is aimed at the next sample time: an adaptive step lands
 // on it, so the time series keeps its spacing; a fixed step passes over it on its grid.
 void RunLoop::step_until_end() {
-  const double interval = o_.output.sample_interval;
   while (!clock_.finished() && !paused_) {
     const long next_sample = files_.samples();
-    const double target = std::min(o_.t_end, next_sample * interval);
+    const double target = std::min(o_.t_end, sample_time(next_sample));
     if (!try_step(target))
       continue;
     finish_step();

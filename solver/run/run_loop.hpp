@@ -46,6 +46,11 @@ private:
   void save_snapshot();
   void report_progress(bool force);
   double time() const { return clock_.time(); }
+  // Adaptive step: the time of the k-th sample (Checkpoint::sample_origin_time).
+  double sample_time(long k) const {
+    return sample_origin_time_ +
+           double(k - sample_origin_index_) * o_.output.sample_interval;
+  }
   const Topology& topology() const { return plan_.mesh.topology; }
   const PeriodicBox& box() const { return plan_.box; }
   // The profile's accumulator of one stage, or null without a profile (ScopeTimer).
@@ -66,6 +71,8 @@ private:
   TimeStepper clock_;
   std::vector<Vec3> x_;
   std::vector<double> v0_, drift_;
+  double sample_origin_time_ = 0; // sample_time()
+  long sample_origin_index_ = 0;
 };
 
 } // namespace capsim

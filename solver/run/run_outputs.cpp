@@ -73,6 +73,8 @@ void RunLoop::save_checkpoint() {
   c.time = time();
   c.next_dt = clock_.dt();
   c.rejected_steps = clock_.rejected();
+  c.sample_origin_time = sample_origin_time_;
+  c.sample_origin_index = sample_origin_index_;
   c.step = clock_.steps();
   c.num_capsules = o_.capsules;
   c.nodes_per_capsule = topology().num_nodes;

@@ -4,7 +4,9 @@
 #include "run/run_loop.hpp"
 #include "run/run_plan.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <omp.h>
 
 namespace capsim {
@@ -12,6 +14,14 @@ namespace capsim {
 bool may_change_on_resume(const std::string& key) {
   return key == "t_end" || key == "t_avg_start" || key == "threads" || key == "backend" ||
          key.rfind("output.", 0) == 0;
+}
+
+bool may_change_on_branch(const std::string& key) {
+  static const char* const numerical[] = {"time.", "ewald.", "quadrature.", "gmres."};
+  return may_change_on_resume(key) || key == "method" || key == "dt" ||
+         key == "dt_safety" ||
+         std::any_of(std::begin(numerical), std::end(numerical),
+                     [&](const char* prefix) { return key.rfind(prefix, 0) == 0; });
 }
 
 namespace {
@@ -28,15 +38,45 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
           ": cannot change on --resume (it would change the "
           "steps already taken); only t_end, t_avg_start, threads, backend and "
           "output.* "
-          "can. Start a new run for other values");
+          "can. Start a new run for other values, or --branch for other numerics");
   }
   return parse_checkpoint_options(c.options_yaml, overrides, "checkpoint in " + dir);
+}
+
+// A branch keeps the model (Ca, phi, membrane, lambda, mesh, ...). A fixed step's time is
+// its step count times dt, so a branch may take a fixed step only where the run it starts
+// from took the same one (the same dt, dt_safety, scheme and stages); an adaptive step
+// starts from any checkpoint at its time.
+RunOptions branch_options(const std::string& dir, const Checkpoint& c,
+                          const std::vector<std::string>& overrides) {
+  for (const auto& s : overrides) {
+    std::string key = s.substr(0, s.find('='));
+    if (!may_change_on_branch(key))
+      throw ConfigError("--set " + key +
+                        ": cannot change on --branch (it is the model, not the "
+                        "numerics); only the keys of --resume, method, dt, dt_safety, "
+                        "time.*, ewald.*, quadrature.* and gmres.* can. Start a new "
+                        "run for other values");
+  }
+  const std::string source = "checkpoint in " + dir;
+  const RunOptions from = parse_checkpoint_options(c.options_yaml, {}, source);
+  RunOptions o = parse_checkpoint_options(c.options_yaml, overrides, source);
+  const bool same_fixed_step =
+      from.time.tolerance <= 0 && o.dt == from.dt && o.dt_safety == from.dt_safety &&
+      o.time.scheme == from.time.scheme && o.time.stages == from.time.stages;
+  if (o.time.tolerance <= 0 && !same_fixed_step)
+    throw ConfigError("--set time.tolerance: a branch with a fixed step needs the same "
+                      "fixed step as the run in " +
+                      dir +
+                      " (a fixed step's time counts its steps); give time.tolerance > 0 "
+                      "for another scheme or step");
+  return o;
 }
 
 // The run after its set-up, to summary.json; a numerical stop records how it ended.
 bool run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begin,
                 const Checkpoint& checkpoint) {
-  if (request.resume)
+  if (request.resume || !request.branch_from.empty())
     loop.start_from(checkpoint);
   else
     loop.start_fresh();
@@ -64,6 +104,9 @@ bool run_simulation(const RunRequest& request) {
   if (request.resume) {
     checkpoint = read_checkpoint(request.outdir + "/checkpoint.h5");
     o = resume_options(request.outdir, checkpoint, request.resume_overrides);
+  } else if (!request.branch_from.empty()) {
+    checkpoint = read_checkpoint(request.branch_from + "/checkpoint.h5");
+    o = branch_options(request.branch_from, checkpoint, request.resume_overrides);
   }
   // Everything the options leave to be settled, settled once; the rest only reads it.
   const RunPlan plan = resolve_run_plan(o, request.quiet);
@@ -72,10 +115,15 @@ bool run_simulation(const RunRequest& request) {
   // Built first: a backend that cannot run the plan stops the run before anything is
   // written.
   RunLoop loop(plan, request.outdir, request.quiet, request.pause_at, request.profile);
-  if (request.resume)
+  if (request.resume) {
     loop.check_series(checkpoint);
-  else
+  } else {
     RunFiles::prepare_fresh(request.outdir);
+    if (!request.branch_from.empty()) {
+      RunFiles::copy_series(request.branch_from, request.outdir);
+      loop.check_series(checkpoint);
+    }
+  }
   // A failed write (a full disk, a read-only folder) says which file and what failed,
   // then where the run can continue from.
   try {

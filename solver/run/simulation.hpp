@@ -15,7 +15,11 @@ struct RunRequest {
   std::string outdir;
   bool resume = false;
   std::vector<std::string> resume_overrides; // key=value allowed when resuming
-  bool quiet = false;                        // no progress lines
+  // Non-empty: a new run in outdir from the last checkpoint of the run in this folder
+  // (its state, time and time series up to there), with resume_overrides, which may
+  // change the numerical settings too (may_change_on_branch). resume stays false.
+  std::string branch_from;
+  bool quiet = false; // no progress lines
   // > 0: pause at the first regular checkpoint at or after gammadot t = pause_at (one
   // segment of a longer run): no summary.json, and --resume continues exactly as if the
   // run had never stopped, since the pause falls where the unbroken run checkpoints too.
@@ -30,5 +34,10 @@ bool run_simulation(const RunRequest& request);
 
 // Keys that may change on --resume: they do not alter the physics of the steps taken.
 bool may_change_on_resume(const std::string& key);
+
+// Keys that may change on --branch: those of --resume and the numerical settings (time
+// scheme and step, Ewald, quadrature, GMRES): a branch continues the same model with
+// other numerics, e.g. to compare time schemes from a developed suspension.
+bool may_change_on_branch(const std::string& key);
 
 } // namespace capsim

@@ -278,6 +278,92 @@ TEST_CASE("resume: the same close pair with the repulsion on runs to its end and
   fs::remove_all(dir);
 }
 
+namespace {
+
+// The time series of a run folder and one column of it.
+std::vector<Sample> series_of(const fs::path& dir) {
+  return read_timeseries((dir / "timeseries.h5").string());
+}
+
+} // namespace
+
+TEST_CASE("branch: a new run from another's checkpoint continues it, with the same "
+          "numerics bit for bit and with others from the same state",
+          "[resume][branch]") {
+  fs::path whole = fresh_dir("branch_whole"), from = fresh_dir("branch_from"),
+           same = fresh_dir("branch_same"), imex = fresh_dir("branch_imex"),
+           halves = fresh_dir("branch_halves");
+  REQUIRE(run(with({"run", "-o", whole.string()}, kCase)) == 0);
+  REQUIRE(run(with({"run", "--pause-at", "1", "-o", from.string()}, kCase)) == 0);
+  const Checkpoint start = read_checkpoint((from / "checkpoint.h5").string());
+  const auto from_files = fs::last_write_time(from / "checkpoint.h5");
+
+  // The same numerics: the uninterrupted run to the last bit.
+  REQUIRE(run({"run", "-q", "--branch", from.string(), "-o", same.string()}) == 0);
+  CHECK(physics_of_summary(same) == physics_of_summary(whole));
+  const auto a = series_of(whole), b = series_of(same);
+  REQUIRE(a.size() == b.size());
+  for (size_t i = 0; i < a.size(); ++i)
+    CHECK(a[i].capsules[0].taylor_D == b[i].capsules[0].taylor_D);
+
+  // Adaptive IMEX from the fixed Heun step's checkpoint: the rows before it are the
+  // source's, the samples go on every 0.05 from it (its grid is the fixed step's, which
+  // counts steps), and a branch paused and resumed equals the unbroken one.
+  const std::vector<std::string> other = {"--set", "time.scheme=imex", "--set",
+                                          "time.tolerance=1e-3"};
+  REQUIRE(run(with({"run", "-q", "--branch", from.string(), "-o", imex.string()},
+                   other)) == 0);
+  REQUIRE(run(with({"run", "-q", "--pause-at", "2", "--branch", from.string(), "-o",
+                    halves.string()},
+                   other)) == 0);
+  REQUIRE(run({"run", "-q", "--resume", halves.string()}) == 0);
+  const auto c = series_of(imex), h = series_of(halves);
+  const long n = long(start.samples_written);
+  REQUIRE(long(c.size()) > n);
+  for (long i = 0; i < n; ++i)
+    CHECK(c[i].capsules[0].taylor_D == a[i].capsules[0].taylor_D);
+  CHECK(c[n].time == Approx(start.time + 0.05).epsilon(1e-12));
+  CHECK(c.back().time == 3.0);
+  REQUIRE(c.size() == h.size());
+  for (size_t i = 0; i < c.size(); ++i)
+    CHECK(c[i].capsules[0].taylor_D == h[i].capsules[0].taylor_D);
+  // Both follow one trajectory: at gammadot t = 3 (the fixed step's last sample at 3.05,
+  // where D has settled to within 1e-4) they differ by far less than the scheme's step
+  // tolerance of 1e-3 a on the nodes (8e-6 measured).
+  CHECK(std::abs(c.back().capsules[0].taylor_D - a.back().capsules[0].taylor_D) < 1e-3);
+
+  // The model, or another fixed step, cannot change; the source is never written.
+  CHECK(run({"run", "-q", "--branch", from.string(), "-o", (from / "x").string(), "--set",
+             "ca=0.5"}) == 2);
+  CHECK(run({"run", "-q", "--branch", from.string(), "-o", (from / "y").string(), "--set",
+             "dt_safety=0.5"}) == 2);
+  CHECK(run({"run", "-q", "--branch", from.string()}) == 2);
+  CHECK(run({"run", "-q", "--branch", from.string(), "-o", imex.string()}) == 2);
+  CHECK(fs::last_write_time(from / "checkpoint.h5") == from_files);
+  CHECK_FALSE(fs::exists(from / "x"));
+  CHECK_FALSE(fs::exists(from / "y"));
+  for (const auto& d : {whole, from, same, imex, halves})
+    fs::remove_all(d);
+}
+
+TEST_CASE("resume: an adaptive run resumed with another sample interval samples on from "
+          "its checkpoint",
+          "[resume]") {
+  // Its samples were at k 0.05; at 0.03 from the checkpoint at 1 the next is at 1.03, not
+  // at k 0.03 for the k-th row, which lies before the checkpoint (the step would be < 0).
+  fs::path dir = fresh_dir("interval");
+  REQUIRE(run(with({"run", "--pause-at", "1", "-o", dir.string()},
+                   with(kCase, {"--set", "time.scheme=imex", "--set",
+                                "time.tolerance=1e-3", "--set", "t_end=1.5"}))) == 0);
+  REQUIRE(run({"run", "-q", "--resume", dir.string(), "--set",
+               "output.sample_interval=0.03"}) == 0);
+  const auto s = series_of(dir);
+  REQUIRE(s.size() == 21 + 17); // 0 to 1 by 0.05, then 1.03 to 1.48 by 0.03, and 1.5
+  CHECK(s[21].time == Approx(1.03).epsilon(1e-12));
+  CHECK(s.back().time == 1.5);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("cli: capsim greens prints the periodic Stokeslet and refuses lattice points",
           "[cli]") {
   fs::path out = fresh_dir("greens");
