@@ -24,7 +24,12 @@ Cases (names, or a comma-separated list of them):
              eb 0.025, F0 5, the configuration's run options), from rest to t = 2,
              window [1, 2]: Heun at dt_safety 1 (the grid's run) against IMEX at
              time.tolerance auto and 1e-3, and Heun at dt_safety 0.5 as the reference
-Every run samples every 0.25 strain units (the bending case every 0.05). Where a case has
+  developed  the same suspension developed: the grid's Ca 0.3 and 0.4, phi 0.4, eb 0.025
+             points, each from its archived state near gammadot t = 30 (capsim run
+             --branch) for 1.5 strain units, window the whole branch: Heun as the grid
+             ran it (the record's own numerics) against IMEX at time.tolerance 1e-3, and
+             IMEX at 1e-4 as the reference (a branch cannot take another fixed step)
+Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
 a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
 and N1 from the reference's over the run (the reference interpolated to the row's sample
 times by a cubic spline), relative to the reference's mean over the window. Runs are
@@ -41,6 +46,7 @@ import platform
 import subprocess
 from datetime import date
 
+import h5py
 import numpy as np
 import pandas as pd
 from scipy.interpolate import CubicSpline
@@ -48,6 +54,8 @@ from scipy.interpolate import CubicSpline
 from analysis.read_run import read_timeseries
 from analysis.rheology import particle_stress
 from analysis.tables import markdown_table
+from pipeline import archive
+from pipeline.archive import read_record
 from pipeline.run_spec import RunSpec
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -58,6 +66,9 @@ HEUN = {"time.scheme": "heun"}
 HEUN_1 = {"time.scheme": "heun", "dt_safety": 1.0}
 IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
 REFERENCE = "reference"  # the variant the others' series are held against, where given
+ARCHIVE = ROOT / "archive" / "quantitative"
+BRANCH_STRAIN = 1.5  # the developed case's branches
+BRANCHES = {}  # case label: the archive record whose state its runs branch from
 
 
 def imex_rms(tolerance):
@@ -101,6 +112,17 @@ def cases(name):
                                    ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
                                    ("imex", IMEX),
                                    (REFERENCE, {**HEUN, "dt_safety": 0.5})])
+    elif name == "developed":
+        for ca in (0.3, 0.4):
+            record = ARCHIVE / "grid" / f"ca{ca}_phi0.4_M27_level3_seed1_eb0.025+rep5"
+            t0 = read_record(record)["state_time"]
+            common = RunSpec(study=STUDY, ca=ca, level=3, t_end=round(t0 + BRANCH_STRAIN, 6),
+                             t_avg_start=t0, phi=0.4, M=27, seed=1,
+                             membrane="eb0.025+rep5")
+            BRANCHES[f"developed_Ca{ca}"] = record
+            yield (f"developed_Ca{ca}", common,
+                   [("heun_1", {}), ("imex", IMEX),
+                    (REFERENCE, {**IMEX, "time.tolerance": 1e-4})])
     elif name == "table1":
         common = RunSpec(study=STUDY, ca=0.2, level=3, t_end=20, t_avg_start=10, phi=0.3,
                          M=27, seed=1, options=(("ewald.tolerance", 1e-4),))
@@ -118,13 +140,32 @@ def variant_spec(common, label, variant, settings):
                                label=f"{label}_{variant}")
 
 
-def run(spec, a):
-    """Runs capsim once into the spec's folder unless a finished run is there; returns
-    the folder."""
+def source_folder(record):
+    """The run folder of an archive record's state (restored once, then only read)."""
+    folder = ROOT / "results" / STUDY / f"source_{record.name}"
+    if not (folder / "checkpoint.h5").exists():
+        archive.restore(record, folder, read_record(record), full=False)
+    return folder
+
+
+def branch_command(spec, settings, source, a):
+    """`capsim run --branch`: the source's state, model and numerics, with `settings`."""
+    sets = {**SAMPLES, "output.sample_interval": 0.05, **settings, "t_end": spec.t_end,
+            "t_avg_start": spec.t_avg_start, "threads": a.threads}
+    return [str(a.capsim), "run", "-q", "--branch", str(source), "-o",
+            str(ROOT / spec.folder)] + [f"--set={k}={v}" for k, v in sets.items()]
+
+
+def run(spec, a, settings=None, record=None):
+    """Runs capsim once into the spec's folder unless a finished run is there (a branch
+    from the archive record's state where one is given); returns the folder."""
     folder = ROOT / spec.folder
     if (folder / "summary.json").exists():
         return folder
-    cmd, _ = spec.command(a.capsim, a.threads, root=ROOT)
+    if record is None:
+        cmd, _ = spec.command(a.capsim, a.threads, root=ROOT)
+    else:
+        cmd = branch_command(spec, settings, source_folder(record), a)
     print(" ".join(cmd[1:]), flush=True)
     subprocess.run(cmd, check=False)  # an early stop still leaves a summary
     return folder
@@ -159,14 +200,22 @@ def series_error(folder, reference, spec):
     return out
 
 
-def measure(folder, spec):
+def measure(folder, spec, record=None):
+    """A run's steps, time and window averages; a branch's steps, rejections and strain
+    are its own (counted from the source's checkpoint at t_avg_start)."""
     s = json.loads((folder / "summary.json").read_text())
     ts = read_timeseries(folder)
     inside = (ts["time"] >= spec.t_avg_start) & (ts["time"] <= spec.t_end)
-    row = {"ended": s["ended"], "steps": s["steps"], "rejected": s.get("rejected_steps"),
-           "mean_dt": s["dt"], "wall_s": s["wall_seconds"],
+    steps, rejected, t0 = s["steps"], s.get("rejected_steps"), 0.0
+    if record is not None:
+        with h5py.File(source_folder(record) / "checkpoint.h5", "r") as c:
+            steps -= int(c["step"][()])
+            rejected -= int(c["rejected_steps"][()])
+            t0 = float(c["time"][()])
+    row = {"ended": s["ended"], "steps": steps, "rejected": rejected,
+           "mean_dt": (ts["time"][-1] - t0) / steps, "wall_s": s["wall_seconds"],
            "s_per_capsule_strain": s["wall_seconds"]
-           / (s["parameters"]["capsules"] * spec.t_end)}
+           / (s["parameters"]["capsules"] * (spec.t_end - t0))}
     for name, series in mean_series(ts, spec).items():
         row[name], row[name + "_se"] = block_mean(series[inside])
     return row
@@ -187,8 +236,9 @@ def main():
             baseline, case_rows = None, []
             for variant, settings in variants:
                 spec = variant_spec(common, label, variant, settings)
-                folder = run(spec, a)
-                row = {"case": label, "variant": variant, **measure(folder, spec)}
+                folder = run(spec, a, settings, BRANCHES.get(label))
+                row = {"case": label, "variant": variant,
+                       **measure(folder, spec, BRANCHES.get(label))}
                 if baseline is None:
                     baseline = row
                 else:

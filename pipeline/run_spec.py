@@ -78,14 +78,14 @@ UNUSED_AT_LAMBDA_1 = ("gmres.",)  # the second-kind solve's: no solve at lambda 
 
 
 EDGE_LEVEL3 = 0.151  # mean edge length of the level-3 icosphere of radius 1
-# imex at a given time.tolerance T (max norm) in a dense suspension from rest: its mean
-# step about 0.75 sqrt(T), each step 1.15 times Heun's wall time (Ca 0.3, phi 0.4, M 27,
-# level 3, eb 0.025, to t = 2: steps 0.0233 at 1e-3 and 0.0085 at 1.3e-4, 0.97 and
-# 0.95 s each against Heun's 0.82 s; benchmarks/records/time_schemes_bending.json). In
-# the developed suspension its step at 1e-3 is about half that (0.0125-0.0135) and 1.26
-# times Heun's in cost (docs/time_stepping.md): the model overstates imex's gain there
-# about twofold, until a study from a developed state recalibrates it.
-IMEX_STEP_PER_ROOT_TOLERANCE = 0.75
+# imex at a given time.tolerance T (max norm) in a developed dense suspension: its mean
+# step about 0.50 sqrt(T), each step 1.15 times Heun's wall time (the grid's Ca 0.3 and
+# 0.4, phi 0.4, eb 0.025 points branched from their archived states near gammadot t 30
+# for 1.5 strain units: steps 0.0143 and 0.0174 at 1e-3, 1.06 and 1.24 times Heun's
+# cost a step; benchmarks/records/time_schemes_developed.json). From rest its step is
+# longer (0.0233 at 1e-3 to t = 2, time_schemes_bending.json): a run's first strain
+# units cost less than the model says.
+IMEX_STEP_PER_ROOT_TOLERANCE = 0.50
 IMEX_STEP_COST = 1.15
 
 
@@ -352,10 +352,11 @@ class RunSpec:
         benchmarks/records/build_compare_defaults.json, whose step was 1.22-1.26 times
         the profile's, build_compare.json). A capsule of another viscosity (lambda != 1)
         solves for its velocity each evaluation: lambda_cost_ratio times lambda 1's
-        cost. imex at a given time.tolerance T takes steps of about 0.75 sqrt(T) that
-        bending does not shorten, each 1.15 times Heun's (measured at a dense bending
-        point, where the model gives 2.46 times less than Heun against 2.35 measured);
-        at time.tolerance auto it is estimated as Heun (within 15 % there)."""
+        cost. imex at a given time.tolerance T takes steps of about 0.50 sqrt(T) that
+        bending does not shorten, each 1.15 times Heun's (measured at two dense bending
+        points developed, where the model gives 1.64 and 1.23 times less than Heun
+        against 1.62 and 1.27 measured); at time.tolerance auto it is estimated as Heun
+        (within 15 % at one of them from rest)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         eb = membrane_codes.parse(self.membrane, "membrane").get("eb", 0.0)

@@ -76,7 +76,9 @@ RunOptions branch_options(const std::string& dir, const Checkpoint& c,
 // The run after its set-up, to summary.json; a numerical stop records how it ended.
 bool run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begin,
                 const Checkpoint& checkpoint) {
-  if (request.resume || !request.branch_from.empty())
+  // summary.json's `resumed`: this invocation started from a checkpoint.
+  const bool from_checkpoint = request.resume || !request.branch_from.empty();
+  if (from_checkpoint)
     loop.start_from(checkpoint);
   else
     loop.start_fresh();
@@ -86,12 +88,12 @@ bool run_to_end(RunLoop& loop, const RunRequest& request, Clock::time_point begi
   try {
     loop.run();
   } catch (const SimulationError& e) {
-    loop.write_summary(seconds(), request.resume, e.kind, e.what());
+    loop.write_summary(seconds(), from_checkpoint, e.kind, e.what());
     throw;
   }
   if (loop.paused())
     return false;
-  loop.write_summary(seconds(), request.resume);
+  loop.write_summary(seconds(), from_checkpoint);
   return true;
 }
 

@@ -145,20 +145,24 @@ def test_a_grid_point_of_t_end_at_runs_longer_in_every_study_that_runs_it():
             run_spec.point_t_ends({**grid, "t_end_at": entries}, "grid.t_end_at")
 
 
-def test_the_cost_model_s_imex_at_a_bending_point_against_its_measurement():
-    """At the dense bending point of benchmarks/records/time_schemes_bending.json the
-    model's ratio of Heun's cost to imex's at 1e-3 (Heun's step shortened by bending's
-    stability limit, imex's not) is within 10 % of the measured wall-time ratio, and imex
-    at time.tolerance auto is estimated as Heun."""
+def test_the_cost_model_s_imex_at_the_bending_points_against_their_measurement():
+    """At the two developed dense bending points of
+    benchmarks/records/time_schemes_developed.json (Ca 0.3 and 0.4, phi 0.4, eb 0.025)
+    the model's ratio of Heun's cost to imex's at 1e-3 (Heun's step shortened by
+    bending's stability limit, imex's not) is within 10 % of the measured wall-time
+    ratio (the machine drifts by 15-20 % within minutes; the two differ by 3 % and 1 %),
+    and imex at time.tolerance auto is estimated as Heun."""
     rows = json.loads((ROOT / "benchmarks" / "records"
-                       / "time_schemes_bending.json").read_text())["rows"]
-    wall = {row["variant"]: row["wall_s"] for row in rows}
+                       / "time_schemes_developed.json").read_text())["rows"]
     options = tuple(sorted(quantitative_config()["run_options"].items()))
 
-    def cost(code):
-        return RunSpec(study="grid", ca=0.3, phi=0.4, M=27, level=3, t_end=30,
+    def cost(ca, code):
+        return RunSpec(study="grid", ca=ca, phi=0.4, M=27, level=3, t_end=30,
                        t_avg_start=10, membrane=code, options=options).seconds_per_strain()
 
-    modelled = cost("eb0.025+rep5") / cost("eb0.025+rep5+imex0.001")
-    assert modelled == pytest.approx(wall["heun_1"] / wall["imex"], rel=0.1)
-    assert cost("eb0.025+rep5+imex") == cost("eb0.025+rep5")
+    for ca in (0.3, 0.4):
+        wall = {row["variant"]: row["wall_s"] for row in rows
+                if row["case"] == f"developed_Ca{ca}"}
+        modelled = cost(ca, "eb0.025+rep5") / cost(ca, "eb0.025+rep5+imex0.001")
+        assert modelled == pytest.approx(wall["heun_1"] / wall["imex"], rel=0.1)
+        assert cost(ca, "eb0.025+rep5+imex") == cost(ca, "eb0.025+rep5")
