@@ -29,6 +29,8 @@ Cases (names, or a comma-separated list of them):
              --branch) for 1.5 strain units, window the whole branch: Heun as the grid
              ran it (the record's own numerics) against IMEX at time.tolerance 1e-3, and
              IMEX at 1e-4 as the reference (a branch cannot take another fixed step)
+  developed5 the same branches of IMEX at time.tolerance 1e-3 alone over 5 strain units,
+             with its steps in each strain unit (how much the step count varies)
 Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
 a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
 and N1 from the reference's over the run (the reference interpolated to the row's sample
@@ -67,7 +69,7 @@ HEUN_1 = {"time.scheme": "heun", "dt_safety": 1.0}
 IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
 REFERENCE = "reference"  # the variant the others' series are held against, where given
 ARCHIVE = ROOT / "archive" / "quantitative"
-BRANCH_STRAIN = 1.5  # the developed case's branches
+BRANCH_STRAIN = {"developed": 1.5, "developed5": 5.0}  # strain units of the branches
 BRANCHES = {}  # case label: the archive record whose state its runs branch from
 
 
@@ -112,15 +114,17 @@ def cases(name):
                                    ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
                                    ("imex", IMEX),
                                    (REFERENCE, {**HEUN, "dt_safety": 0.5})])
-    elif name == "developed":
+    elif name in BRANCH_STRAIN:
         for ca in (0.3, 0.4):
             record = ARCHIVE / "grid" / f"ca{ca}_phi0.4_M27_level3_seed1_eb0.025+rep5"
             t0 = read_record(record)["state_time"]
-            common = RunSpec(study=STUDY, ca=ca, level=3, t_end=round(t0 + BRANCH_STRAIN, 6),
+            common = RunSpec(study=STUDY, ca=ca, level=3,
+                             t_end=round(t0 + BRANCH_STRAIN[name], 6),
                              t_avg_start=t0, phi=0.4, M=27, seed=1,
                              membrane="eb0.025+rep5")
-            BRANCHES[f"developed_Ca{ca}"] = record
-            yield (f"developed_Ca{ca}", common,
+            BRANCHES[f"{name}_Ca{ca}"] = record
+            yield (f"{name}_Ca{ca}", common,
+                   [("imex", IMEX)] if name == "developed5" else
                    [("heun_1", {}), ("imex", IMEX),
                     (REFERENCE, {**IMEX, "time.tolerance": 1e-4})])
     elif name == "table1":
@@ -216,6 +220,10 @@ def measure(folder, spec, record=None):
            "mean_dt": (ts["time"][-1] - t0) / steps, "wall_s": s["wall_seconds"],
            "s_per_capsule_strain": s["wall_seconds"]
            / (s["parameters"]["capsules"] * (spec.t_end - t0))}
+    if record is not None:  # the steps of each whole strain unit of the branch
+        units = np.arange(t0, ts["time"][-1] + 1e-5, 1.0)  # t_end is rounded to 1e-6
+        at = np.interp(units, ts["time"], ts["step"])
+        row["steps_per_strain_unit"] = [int(round(b - a)) for a, b in zip(at, at[1:])]
     for name, series in mean_series(ts, spec).items():
         row[name], row[name + "_se"] = block_mean(series[inside])
     return row
@@ -257,7 +265,11 @@ def main():
                 rows.append(row)
                 print(json.dumps(row), flush=True)
     (OUT / "time_schemes.json").write_text(json.dumps(rows, indent=1))
-    (OUT / "time_schemes.md").write_text(markdown_table(pd.DataFrame(rows), na_rep=""))
+    table = pd.DataFrame(rows)
+    if "steps_per_strain_unit" in table:  # a list a row: its counts in one cell
+        table["steps_per_strain_unit"] = table["steps_per_strain_unit"].map(
+            lambda counts: " ".join(map(str, counts)))
+    (OUT / "time_schemes.md").write_text(markdown_table(table, na_rep=""))
     print(f"wrote {OUT / 'time_schemes.json'}")
     if a.out:
         record = {"benchmark": "time_scheme_study", "date": date.today().isoformat(),

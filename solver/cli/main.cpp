@@ -56,14 +56,12 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       "--resume", a.resume_dir,
       "continue the run in this folder from its last checkpoint (with --set, only "
       "t_end, t_avg_start, threads, backend and output.* may change)");
-  run->add_option(
-         "--branch", a.branch_dir,
-         "start a new run (-o) from the last checkpoint of the run in this folder, its "
-         "time "
-         "series up to there included; with --set, the keys of --resume and the numerics "
-         "(method, dt, dt_safety, time.*, ewald.*, quadrature.*, gmres.*) may change, "
-         "e.g. "
-         "to compare time schemes from a developed suspension")
+  run->add_option("--branch", a.branch_dir,
+                  "start a new run (-o) from the last checkpoint of the run in this "
+                  "folder, with its time series up to there; with --set, the keys of "
+                  "--resume and the numerics (method, dt, dt_safety, time.*, ewald.*, "
+                  "quadrature.*, gmres.*) may change, e.g. to compare time schemes from "
+                  "a developed suspension")
       ->check(CLI::ExistingDirectory);
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
   run->add_option("--pause-at", a.pause_at,

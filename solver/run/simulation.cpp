@@ -28,18 +28,22 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Refuses the first --set key that `may_change` does not allow: "--set KEY: " + why.
+void check_overrides(const std::vector<std::string>& overrides,
+                     bool (*may_change)(const std::string&), const std::string& why) {
+  for (const auto& s : overrides) {
+    const std::string key = s.substr(0, s.find('='));
+    if (!may_change(key))
+      throw ConfigError("--set " + key + ": " + why);
+  }
+}
+
 RunOptions resume_options(const std::string& dir, const Checkpoint& c,
                           const std::vector<std::string>& overrides) {
-  for (const auto& s : overrides) {
-    std::string key = s.substr(0, s.find('='));
-    if (!may_change_on_resume(key))
-      throw ConfigError(
-          "--set " + key +
-          ": cannot change on --resume (it would change the "
-          "steps already taken); only t_end, t_avg_start, threads, backend and "
-          "output.* "
-          "can. Start a new run for other values, or --branch for other numerics");
-  }
+  check_overrides(overrides, may_change_on_resume,
+                  "cannot change on --resume (it would change the steps already taken); "
+                  "only t_end, t_avg_start, threads, backend and output.* can. Start a "
+                  "new run for other values, or --branch for other numerics");
   return parse_checkpoint_options(c.options_yaml, overrides, "checkpoint in " + dir);
 }
 
@@ -49,15 +53,10 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
 // starts from any checkpoint at its time.
 RunOptions branch_options(const std::string& dir, const Checkpoint& c,
                           const std::vector<std::string>& overrides) {
-  for (const auto& s : overrides) {
-    std::string key = s.substr(0, s.find('='));
-    if (!may_change_on_branch(key))
-      throw ConfigError("--set " + key +
-                        ": cannot change on --branch (it is the model, not the "
-                        "numerics); only the keys of --resume, method, dt, dt_safety, "
-                        "time.*, ewald.*, quadrature.* and gmres.* can. Start a new "
-                        "run for other values");
-  }
+  check_overrides(overrides, may_change_on_branch,
+                  "cannot change on --branch (it is the model, not the numerics); only "
+                  "the keys of --resume, method, dt, dt_safety, time.*, ewald.*, "
+                  "quadrature.* and gmres.* can. Start a new run for other values");
   const std::string source = "checkpoint in " + dir;
   const RunOptions from = parse_checkpoint_options(c.options_yaml, {}, source);
   RunOptions o = parse_checkpoint_options(c.options_yaml, overrides, source);
@@ -65,11 +64,11 @@ RunOptions branch_options(const std::string& dir, const Checkpoint& c,
       from.time.tolerance <= 0 && o.dt == from.dt && o.dt_safety == from.dt_safety &&
       o.time.scheme == from.time.scheme && o.time.stages == from.time.stages;
   if (o.time.tolerance <= 0 && !same_fixed_step)
-    throw ConfigError("--set time.tolerance: a branch with a fixed step needs the same "
-                      "fixed step as the run in " +
+    throw ConfigError("--set time.tolerance: a branch with a fixed step needs the fixed "
+                      "step of the run in " +
                       dir +
-                      " (a fixed step's time counts its steps); give time.tolerance > 0 "
-                      "for another scheme or step");
+                      " (its time counts the steps); give time.tolerance > 0 for "
+                      "another scheme or step");
   return o;
 }
 
