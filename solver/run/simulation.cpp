@@ -8,6 +8,7 @@
 #include <chrono>
 #include <iterator>
 #include <omp.h>
+#include <utility>
 
 namespace capsim {
 
@@ -60,15 +61,24 @@ RunOptions branch_options(const std::string& dir, const Checkpoint& c,
   const std::string source = "checkpoint in " + dir;
   const RunOptions from = parse_checkpoint_options(c.options_yaml, {}, source);
   RunOptions o = parse_checkpoint_options(c.options_yaml, overrides, source);
-  const bool same_fixed_step =
-      from.time.tolerance <= 0 && o.dt == from.dt && o.dt_safety == from.dt_safety &&
-      o.time.scheme == from.time.scheme && o.time.stages == from.time.stages;
-  if (o.time.tolerance <= 0 && !same_fixed_step)
-    throw ConfigError("--set time.tolerance: a branch with a fixed step needs the fixed "
+  // A fixed step only where the source took the same one: name what would change it.
+  std::string changed;
+  const std::pair<const char*, bool> keys[] = {
+      {"time.tolerance", from.time.tolerance > 0},
+      {"dt", o.dt != from.dt},
+      {"dt_safety", o.dt_safety != from.dt_safety},
+      {"time.scheme", o.time.scheme != from.time.scheme},
+      {"time.stages", o.time.stages != from.time.stages}};
+  for (const auto& [key, differs] : keys)
+    if (differs && changed.empty())
+      changed = key;
+  if (o.time.tolerance <= 0 && !changed.empty())
+    throw ConfigError("--set " + changed +
+                      ": a branch with a fixed step needs the fixed "
                       "step of the run in " +
                       dir +
-                      " (its time counts the steps); give time.tolerance > 0 for "
-                      "another scheme or step");
+                      " (its time counts the steps); give "
+                      "time.tolerance > 0 for another scheme or step");
   return o;
 }
 
