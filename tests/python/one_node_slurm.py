@@ -15,8 +15,10 @@ allow; nothing enforces them here (no cgroups: proctrack/linuxproc, task/none), 
 jobs share the machine's cores. Two partitions: `main` (the default, no time limit) and
 `short` (a limit of SHORT_MINUTES, one minute: SLURM's smallest).
 
-Without a database, squeue and scontrol know finished jobs for MinJobAge (600 s here):
-the plugin's status command is `squeue` and the test reads the jobs with `scontrol`."""
+Without a database, squeue and scontrol know finished jobs for MinJobAge (an hour here,
+longer than the tests' workflows take even on a loaded machine: at 600 s a run of the
+tests beside other heavy work lost its jobs before the plugin or the test read them): the
+plugin's status command is `squeue` and the test reads the jobs with `scontrol`."""
 
 import fcntl
 import os
@@ -164,7 +166,7 @@ SchedulerType=sched/builtin
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core_Memory
 ReturnToService=2
-MinJobAge=600
+MinJobAge=3600
 KillWait=5
 PropagatePrioProcess=1
 SlurmdParameters=config_overrides
