@@ -44,12 +44,12 @@ struct Checkpoint {
   std::int64_t samples_written = 0;   // rows of timeseries.h5 that belong to this state
   std::int64_t snapshots_written = 0; // mesh snapshots written so far
   double next_dt = 0;                 // adaptive step: the step size to try next
+  std::int64_t rejected_steps = 0;    // adaptive step: steps rejected so far
   // Adaptive step: sample k falls at sample_origin_time + (k - sample_origin_index) times
   // the sample interval; (0, 0) unless a resume or branch moved the grid (another
   // interval, or a branch from a fixed step, whose samples count steps).
   double sample_origin_time = 0;
   std::int64_t sample_origin_index = 0;
-  std::int64_t rejected_steps = 0; // adaptive step: steps rejected so far
   int num_capsules = 1;
   int nodes_per_capsule = 0;
   std::vector<double> volume0; // reference volume of each capsule
