@@ -31,6 +31,13 @@ Cases (names, or a comma-separated list of them):
              IMEX at 1e-4 as the reference (a branch cannot take another fixed step)
   developed5 the same branches of IMEX at time.tolerance 1e-3 alone over 5 strain units,
              with its steps in each strain unit (how much the step count varies)
+  viscosity_ratio
+             the dense viscosity-ratio study's phi 0.1, lambda 5 run (Ca 0.2, M = 27,
+             level 3) from its archived state at gammadot t = 30 for 0.5 strain units:
+             the study's numerics (Heun, gmres.tolerance 1e-5) against GMRES at 1e-4,
+             rkc of 3 stages at time.tolerance 1e-3 and with GMRES at 1e-4, and Heun with
+             GMRES at 1e-8 as the reference; with the grid's lambda 1 run at phi 0.1
+             branched from its state for the same strain as the cost's baseline
 Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
 a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
 and N1 from the reference's over the run (the reference interpolated to the row's sample
@@ -69,7 +76,11 @@ HEUN_1 = {"time.scheme": "heun", "dt_safety": 1.0}
 IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
 REFERENCE = "reference"  # the variant the others' series are held against, where given
 ARCHIVE = ROOT / "archive" / "quantitative"
-BRANCH_STRAIN = {"developed": 1.5, "developed5": 5.0}  # strain units of the branches
+BRANCH_STRAIN = {"developed": 1.5, "developed5": 5.0,  # strain units of the branches
+                 "viscosity_ratio": 0.5}
+# An adaptive step never passes a sample time: samples every 0.25 leave rkc's step free.
+RKC3 = {"time.scheme": "rkc", "time.stages": 3, "time.tolerance": 1e-3,
+        "output.sample_interval": 0.25}
 BRANCHES = {}  # case label: the archive record whose state its runs branch from
 
 
@@ -114,19 +125,25 @@ def cases(name):
                                    ("imex_auto", {**IMEX, "time.tolerance": "auto"}),
                                    ("imex", IMEX),
                                    (REFERENCE, {**HEUN, "dt_safety": 0.5})])
+    elif name == "viscosity_ratio":
+        run = "ca0.2_phi0.1_M27_level3_seed1"
+        yield branch_case(name, "lambda1", ARCHIVE / "grid" / run, 0.2, 0.1,
+                          [("heun_1", {})])
+        yield branch_case(name, "lambda5", ARCHIVE / "viscosity_ratio" / f"{run}_lambda5",
+                          0.2, 0.1,
+                          [("heun_1", {}), ("gmres_1e-4", {"gmres.tolerance": 1e-4}),
+                           ("gmres_1e-3", {"gmres.tolerance": 1e-3}),
+                           ("rkc3", RKC3), ("rkc3_gmres_1e-4", {**RKC3,
+                                                              "gmres.tolerance": 1e-4}),
+                           (REFERENCE, {"gmres.tolerance": 1e-8})])
     elif name in BRANCH_STRAIN:
         for ca in (0.3, 0.4):
             record = ARCHIVE / "grid" / f"ca{ca}_phi0.4_M27_level3_seed1_eb0.025+rep5"
-            t0 = read_record(record)["state_time"]
-            common = RunSpec(study=STUDY, ca=ca, level=3,
-                             t_end=round(t0 + BRANCH_STRAIN[name], 6),
-                             t_avg_start=t0, phi=0.4, M=27, seed=1,
-                             membrane="eb0.025+rep5")
-            BRANCHES[f"{name}_Ca{ca}"] = record
-            yield (f"{name}_Ca{ca}", common,
-                   [("imex", IMEX)] if name == "developed5" else
-                   [("heun_1", {}), ("imex", IMEX),
-                    (REFERENCE, {**IMEX, "time.tolerance": 1e-4})])
+            yield branch_case(name, f"Ca{ca}", record, ca, 0.4,
+                              [("imex", IMEX)] if name == "developed5" else
+                              [("heun_1", {}), ("imex", IMEX),
+                               (REFERENCE, {**IMEX, "time.tolerance": 1e-4})],
+                              membrane="eb0.025+rep5")
     elif name == "table1":
         common = RunSpec(study=STUDY, ca=0.2, level=3, t_end=20, t_avg_start=10, phi=0.3,
                          M=27, seed=1, options=(("ewald.tolerance", 1e-4),))
@@ -135,6 +152,16 @@ def cases(name):
                                   ("imex_rms_1e-2", imex_rms(1e-2))])
     else:
         raise SystemExit(f"unknown case '{name}'")
+
+
+def branch_case(name, tag, record, ca, phi, variants, **spec):
+    """A case of branches from an archive record's state of the dense suspension (M = 27,
+    level 3) for BRANCH_STRAIN[name], window the whole branch."""
+    t0 = read_record(record)["state_time"]
+    common = RunSpec(study=STUDY, ca=ca, level=3, t_end=round(t0 + BRANCH_STRAIN[name], 6),
+                     t_avg_start=t0, phi=phi, M=27, seed=1, **spec)
+    BRANCHES[f"{name}_{tag}"] = record
+    return f"{name}_{tag}", common, variants
 
 
 def variant_spec(common, label, variant, settings):
@@ -176,7 +203,9 @@ def run(spec, a, settings=None, record=None):
 
 
 def block_mean(values, blocks=5):
-    """Mean and the standard error of `blocks` block means."""
+    """Mean and the standard error of `blocks` block means (None with fewer samples)."""
+    if len(values) < blocks:
+        return float(values.mean()), None
     parts = np.array_split(values, blocks)
     means = np.array([p.mean() for p in parts])
     return float(values.mean()), float(means.std(ddof=1) / math.sqrt(blocks))
@@ -220,6 +249,8 @@ def measure(folder, spec, record=None):
            "mean_dt": (ts["time"][-1] - t0) / steps, "wall_s": s["wall_seconds"],
            "s_per_capsule_strain": s["wall_seconds"]
            / (s["parameters"]["capsules"] * (spec.t_end - t0))}
+    if "gmres_iterations_mean" in s:  # lambda != 1: the second-kind solves' iterations
+        row["gmres_iterations"] = s["gmres_iterations_mean"]
     if record is not None:  # the steps of each whole strain unit of the branch
         units = np.arange(t0, ts["time"][-1] + 1e-5, 1.0)  # t_end is rounded to 1e-6
         at = np.interp(units, ts["time"], ts["step"])
