@@ -69,6 +69,8 @@ bool takes_single(Precision p, double tolerance) {
 // for the passes, more real-space pairs, but only within each capsule): a solve of 27
 // capsules of level 3 at phi 0.3 took 0.54, 0.55, 0.56 and 0.58 of its time at 0.5,
 // 0.4, 0.33 and 0.65 of the apply's least-cost xi; 8 capsules of level 2, 0.86 at 0.5.
+// At phi 0.1 (a larger box, the same grids) 0.35, 0.5 and 0.65 are as fast within the
+// machine's drift and 1.0 is 1.2 times slower (27 capsules of level 3, lambda 5).
 constexpr double kSelfMatrixXiFactor = 0.5;
 
 PeriodicBox make_periodic_box(double L, const EwaldOptions& request, long nodes,
