@@ -14,8 +14,9 @@ tank-tread there).
 
 The dense part (viscosity_ratio.dense, --dense): the grid's suspension at the Table 1
 point's Ca (M capsules in the sheared periodic box) at other ratios, one row per (phi,
-lambda) with <D>, theta_D, mu_sp, N1, N2 and their standard errors, how each run ended
-and its GMRES counts; lambda 1 rows are the grid's own runs.
+lambda) with <D>, theta_D, mu_sp, N1, N2 and their standard errors, how each run ended,
+the end it was planned to (`t_planned`) and its GMRES counts; lambda 1 rows are the
+grid's own runs.
 
     python -m analysis.viscosity_ratio [--dense] --runs JSON --t-start 10 --out-csv T.csv \
         --out-md T.md
@@ -45,7 +46,9 @@ COLUMNS = (("ca", "lambda", "mesh_level", "N_E", "ended", "t_stop", "t_start", "
            + GMRES + ("tank_treading",)
            # for figures/common.footer(): one capsule, phi 0, the paper's membrane
            + ("phi", "capsules", "seed", "intrinsic", "membrane", "run"))
-DENSE_COLUMNS = tuple(c for c in COLUMNS if c != "tank_treading")
+# A dense row also carries the end its run was planned to (summary.json's t_end): the
+# figure draws a run that stopped early where its window holds enough of the planned one.
+DENSE_COLUMNS = tuple(c for c in COLUMNS if c != "tank_treading") + ("t_planned",)
 
 
 def run_ratio(summary):
@@ -75,7 +78,8 @@ def averages(entry, t_start):
            "N_E": 20 * 4**level, "ended": summary.get("ended", "t_end"),
            # t_end of a row is its last sample: where a stopped run stopped
            "t_stop": row["t_end"], "t_start": row["t_start"], "t_end": row["t_end"],
-           "count": int(row["count"])}
+           "count": int(row["count"]),
+           "t_planned": float(summary["parameters"]["t_end"])}
     for q in QUANTITIES:
         se = SE.get(q, f"{q}_se")
         out[q], out[se] = float(row[q]), float(row[se])

@@ -8,6 +8,8 @@ Usage: python figures/viscosity_ratio.py --out results/figures/viscosity_ratio \
 Writes STEM.png, STEM.pdf and the plotted data STEM.csv.
 """
 
+import numpy as np
+
 import common
 from common import plt
 
@@ -23,37 +25,56 @@ def series_label(ratio):
     return rf"$\lambda$ = {ratio:g}" + (" (paper)" if ratio == 1 else "")
 
 
-def stopped_text(rows, by="ca"):
-    """The runs not drawn: their Ca (or, by="phi", phi), lambda, how and when they
-    stopped."""
-    early = rows[rows["ended"] != "t_end"]
-    if early.empty:
+def stopped_text(rows, by="ca", hollow=None):
+    """The runs that stopped before their end: their Ca (or, by="phi", phi), lambda, how
+    and when they stopped; those of the mask `hollow` drawn hollow, the others not
+    drawn."""
+    early = rows["ended"] != "t_end"
+    if not early.any():
         return "Every run reached its end."
+    hollow = common.pd.Series(False, rows.index) if hollow is None else hollow
     name = {"ca": "Ca", "phi": "phi"}[by]
-    # records, not itertuples: "lambda" is a Python keyword, no attribute name
-    items = [f"{name} {r[by]:g}, lambda {r['lambda']:g}: {r['ended']} at gammadot t = "
-             f"{r['t_stop']:.3g}" for r in early.to_dict("records")]
-    return "Not drawn, stopped before their end: " + "; ".join(items) + "."
+
+    def items(mask):
+        # records, not itertuples: "lambda" is a Python keyword, no attribute name
+        return "; ".join(f"{name} {r[by]:g}, lambda {r['lambda']:g}: {r['ended']} at "
+                         f"gammadot t = {r['t_stop']:.3g}"
+                         for r in rows[mask].to_dict("records"))
+
+    parts = []
+    if (early & hollow).any():
+        parts.append("Drawn hollow, stopped before their end and averaged to their stop: "
+                     + items(early & hollow) + ".")
+    if (early & ~hollow).any():
+        parts.append("Not drawn, stopped before their end: " + items(early & ~hollow) + ".")
+    return " ".join(parts)
 
 
-def draw_ratios(table, x, xlabel, panels, no_error=()):
+def draw_ratios(table, x, xlabel, panels, no_error=(), hollow=None):
     """One panel per (quantity, label) of `panels` against column x, one line per
-    lambda, of the runs that reached their end (with error bars but for `no_error`).
-    Returns the figure and the rows drawn."""
-    finished = table[table["ended"] == "t_end"]
+    lambda, of the runs that reached their end and those of the mask `hollow` (with
+    hollow markers; error bars but for `no_error`). Returns the figure and the rows
+    drawn."""
+    hollow = common.pd.Series(False, table.index) if hollow is None else hollow
+    drawn = table[(table["ended"] == "t_end") | hollow]
     ratios = sorted(set(table["lambda"]))
     colors = common.colors(ratios)
     fig, axes = plt.subplots(1, len(panels), figsize=(10, 2.6))
     plotted = []
     for i, ratio in enumerate(ratios):
-        rows = finished[finished["lambda"] == ratio].sort_values(x)
+        rows = drawn[drawn["lambda"] == ratio].sort_values(x)
         if rows.empty:
             continue
+        marker = MARKERS[i % len(MARKERS)]
         for ax, (q, _) in zip(axes, panels):
             error = None if q in no_error else rows[SE.get(q, f"{q}_se")]
-            common.points(ax, rows[x], rows[q], yerr=error,
-                          fmt=MARKERS[i % len(MARKERS)] + "-", color=colors[ratio],
-                          label=series_label(ratio))
+            line = common.points(ax, rows[x], rows[q], yerr=error, fmt=marker + "-",
+                                 color=colors[ratio], label=series_label(ratio)).lines[0]
+            early = hollow[rows.index].to_numpy()
+            if early.any():  # the filled markers only where the run reached its end
+                line.set_markevery(list(np.flatnonzero(~early)))
+                ax.plot(rows[x][early], rows[q][early], marker, color=colors[ratio],
+                        markerfacecolor="white")
         plotted.append(rows)
     for ax, (_, label) in zip(axes, panels):
         ax.set(xlabel=xlabel, ylabel=label)

@@ -316,6 +316,7 @@ def test_the_dense_table_and_figure(tiny_dense, tmp_path):
         assert (row["phi"], row["capsules"], row["intrinsic"]) == (0.1, 2, 0)
     assert math.isnan(table["gmres_iterations_mean"][0])
     assert table["gmres_iterations_mean"][1] > 0
+    assert list(table["t_planned"]) == [T_END, T_END]
     text = vr.dense_markdown(table)
     assert "| 0.1 | 5 |" in text and "Ca 0.2, M 2, N_E 80" in text
     (tmp_path / "viscosity_ratio").mkdir()
@@ -333,3 +334,24 @@ def test_the_dense_table_and_figure(tiny_dense, tmp_path):
     page = "\n".join(results_page.viscosity_ratio_lines(tmp_path, tmp_path / "page"))
     assert "### The suspension at other viscosity ratios" in page
     assert "| 0.1 | 5 |" in page and "once all its runs are archived" not in page
+
+
+@pytest.mark.parametrize("stop, drawn", [(0.21, True), (0.19, False)])
+def test_the_dense_figure_draws_a_stopped_run_hollow_where_its_window_holds_half(
+        tiny_dense, tmp_path, stop, drawn):
+    # The lambda 5 run as if it had stopped at `stop`: its window [0.1, stop] holds more
+    # than half the planned [0.1, 0.3] at 0.21 (drawn hollow, averaged to its stop), less
+    # at 0.19.
+    entries = [{"ca": 0.2, "phi": 0.1, "lambda": ratio, "folder": str(folder)}
+               for ratio, folder in tiny_dense.items()]
+    table = vr.dense_table(entries, T_START)
+    table.loc[table["lambda"] == 5, ["ended", "t_stop"]] = ["numerical", stop]
+    table.to_csv(tmp_path / "dense.csv", index=False)
+    run_figure("--out", tmp_path / "figure", tmp_path / "dense.csv",
+               name="viscosity_ratio_dense")
+    data = pd.read_csv(tmp_path / "figure.csv")
+    assert list(data["lambda"]) == ([1, 5] if drawn else [1])
+    caption = (tmp_path / "figure.txt").read_text()
+    stopped = "phi 0.1, lambda 5: numerical at gammadot t = " + f"{stop:.3g}"
+    assert ("Drawn hollow, stopped before their end and averaged to their stop: "
+            if drawn else "Not drawn, stopped before their end: ") + stopped in caption
