@@ -33,9 +33,10 @@ Cases (names, or a comma-separated list of them):
              with its steps in each strain unit (how much the step count varies)
   viscosity_ratio
              the dense viscosity-ratio study's phi 0.1, lambda 5 run (Ca 0.2, M = 27,
-             level 3) from its archived state at gammadot t = 30 for 0.5 strain units:
-             the study's numerics (Heun, gmres.tolerance 1e-5) against GMRES at 1e-4,
-             rkc of 3 stages at time.tolerance 1e-3 and with GMRES at 1e-4, and Heun with
+             level 3) from its archived state (its last checkpoint, gammadot t = 24.6)
+             for 0.5 strain units: the study's numerics (Heun, gmres.tolerance 1e-5)
+             against GMRES at 1e-4 and 1e-3, rkc of 3 stages at time.tolerance 1e-3 (and
+             with GMRES at 1e-4), and Heun with
              GMRES at 1e-8 as the reference; with the grid's lambda 1 run at phi 0.1
              branched from its state for the same strain as the cost's baseline
 Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
