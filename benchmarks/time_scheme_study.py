@@ -37,8 +37,9 @@ Cases (names, or a comma-separated list of them):
              for 0.5 strain units: the study's numerics (Heun, gmres.tolerance 1e-5)
              against GMRES at 1e-4 and 1e-3, rkc of 3 stages at time.tolerance 1e-3 (and
              with GMRES at 1e-4), and Heun with
-             GMRES at 1e-8 as the reference; with the grid's lambda 1 run at phi 0.1
-             branched from its state for the same strain as the cost's baseline
+             GMRES at 1e-8 as the reference; the lambda 0.2 run's likewise (1e-5, 1e-4
+             and 1e-8); with the grid's lambda 1 run at phi 0.1 branched from its state
+             for the same strain as the cost's baseline
 Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
 a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
 and N1 from the reference's over the run (the reference interpolated to the row's sample
@@ -136,6 +137,10 @@ def cases(name):
                            ("gmres_1e-3", {"gmres.tolerance": 1e-3}),
                            ("rkc3", RKC3), ("rkc3_gmres_1e-4", {**RKC3,
                                                               "gmres.tolerance": 1e-4}),
+                           (REFERENCE, {"gmres.tolerance": 1e-8})])
+        yield branch_case(name, "lambda0.2",
+                          ARCHIVE / "viscosity_ratio" / f"{run}_lambda0.2", 0.2, 0.1,
+                          [("heun_1", {}), ("gmres_1e-4", {"gmres.tolerance": 1e-4}),
                            (REFERENCE, {"gmres.tolerance": 1e-8})])
     elif name in BRANCH_STRAIN:
         for ca in (0.3, 0.4):
