@@ -60,8 +60,9 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "start a new run (-o) from the last checkpoint of the run in this "
                   "folder, with its time series up to there; with --set, the keys of "
                   "--resume and the numerics (method, dt, dt_safety, time.*, ewald.*, "
-                  "quadrature.*, gmres.*) may change, e.g. to compare time schemes from "
-                  "a developed suspension")
+                  "quadrature.*, gmres.*) may change, e.g. to compare time schemes or "
+                  "steps from a developed suspension (another fixed step counts its "
+                  "steps from the checkpoint's time)")
       ->check(CLI::ExistingDirectory);
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
   run->add_option("--pause-at", a.pause_at,

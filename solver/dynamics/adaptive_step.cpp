@@ -1,12 +1,19 @@
 #include "dynamics/adaptive_step.hpp"
 
 namespace capsim {
+namespace {
+
+// 1e-9: t_end a whole number of steps from the origin up to rounding takes no extra step.
+long last_fixed_step(const StepOrigin& o, double t_end, double dt) {
+  return o.step + std::lround(std::ceil((t_end - o.time) / dt - 1e-9));
+}
+
+} // namespace
 
 TimeStepper::TimeStepper(Stepper& scheme, double tolerance, double dt, double min_dt,
                          double t_end)
     : scheme_(scheme), dt_(dt), min_dt_(min_dt), t_end_(t_end),
-      // 1e-9: t_end a whole number of steps up to rounding takes no extra step.
-      fixed_steps_(std::lround(std::ceil(t_end / dt - 1e-9))) {
+      fixed_steps_(last_fixed_step({}, t_end, dt)) {
   control_.tolerance = tolerance;
 }
 
@@ -29,10 +36,13 @@ StepOutcome TimeStepper::step_towards(std::vector<Vec3>& x, double target) {
   return StepOutcome::accepted;
 }
 
-void TimeStepper::resume(long steps, double t, double next_dt, long rejected) {
+void TimeStepper::resume(long steps, double t, double next_dt, long rejected,
+                         StepOrigin origin) {
   steps_ = steps;
   t_ = t;
   rejected_ = rejected;
+  origin_ = origin;
+  fixed_steps_ = last_fixed_step(origin, t_end_, dt_);
   if (!fixed() && next_dt > 0)
     dt_ = next_dt;
 }

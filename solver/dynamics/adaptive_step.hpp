@@ -43,6 +43,14 @@ struct StepController {
   }
 };
 
+// Where a fixed step's grid starts: its n-th step ends at time + (n - step) dt. (0, 0)
+// for a run from rest and every resume of it; a branch with another fixed step starts
+// its grid at the checkpoint it starts from.
+struct StepOrigin {
+  long step = 0;
+  double time = 0;
+};
+
 enum class StepOutcome {
   accepted, // x and t advanced
   rejected, // x and t unchanged; the next try is shorter
@@ -63,22 +71,31 @@ public:
   StepOutcome step_towards(std::vector<Vec3>& x, double target);
 
   bool fixed() const { return control_.fixed(); }
-  // At t_end: a fixed step after its ceil(t_end / dt) steps.
+  // At t_end: a fixed step after ceil((t_end - origin time) / dt) steps on its grid.
   bool finished() const { return fixed() ? steps_ >= fixed_steps_ : t_ >= t_end_; }
-  // gammadot t: n dt exactly for a fixed step, so a resumed run stays on its grid.
-  double time() const { return fixed() ? steps_ * dt_ : t_; }
+  // gammadot t: origin time + (n - origin step) dt exactly for a fixed step (n dt from
+  // rest: 0 + n dt is n dt to the bit), so a resumed run stays on its grid.
+  double time() const {
+    return fixed() ? origin_.time + double(steps_ - origin_.step) * dt_ : t_;
+  }
+  // Steps since the fixed step's grid began (all of them from rest).
+  long grid_steps() const { return steps_ - origin_.step; }
+  const StepOrigin& origin() const { return origin_; }
   double dt() const { return dt_; } // the step to try next (a fixed step: dt)
   double mean_dt() const { return fixed() || steps_ == 0 ? dt_ : t_ / steps_; }
   long steps() const { return steps_; }       // accepted so far
   long rejected() const { return rejected_; } // rejected so far
-  // Continues a run from its checkpoint (next_dt <= 0: none saved, keep dt).
-  void resume(long steps, double t, double next_dt, long rejected);
+  // Continues a run from its checkpoint (next_dt <= 0: none saved, keep dt) on the
+  // fixed step's grid from `origin`.
+  void resume(long steps, double t, double next_dt, long rejected,
+              StepOrigin origin = {});
 
 private:
   Stepper& scheme_;
   StepController control_;
   double dt_, min_dt_, t_end_;
-  long fixed_steps_; // of a fixed step: ceil(t_end / dt), the last may pass t_end
+  StepOrigin origin_;
+  long fixed_steps_; // of a fixed step: its last, which may pass t_end
   double t_ = 0;     // gammadot t of an adaptive step
   long steps_ = 0, rejected_ = 0;
 };

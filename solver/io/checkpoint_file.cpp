@@ -52,6 +52,10 @@ void check_finite(const Checkpoint& c) {
     fail("/next_dt", c.next_dt);
   if (!(std::isfinite(c.sample_origin_time) && c.sample_origin_time >= 0))
     fail("/sample_origin_time", c.sample_origin_time);
+  if (!(std::isfinite(c.step_origin_time) && c.step_origin_time >= 0))
+    fail("/step_origin_time", c.step_origin_time);
+  if (c.step_origin_index < 0 || c.step_origin_index > c.step)
+    fail("/step_origin_index", double(c.step_origin_index));
   for (std::size_t i = 0; i < c.volume0.size(); ++i)
     if (!(std::isfinite(c.volume0[i]) && c.volume0[i] > 0))
       fail("/volume0", c.volume0[i], " of capsule " + std::to_string(i));
@@ -76,6 +80,10 @@ void write_contents(const std::string& file_path, const Checkpoint& c) {
   if (c.sample_origin_time != 0 || c.sample_origin_index != 0) {
     h5::write_scalar<double>(f, "/sample_origin_time", c.sample_origin_time);
     h5::write_scalar<std::int64_t>(f, "/sample_origin_index", c.sample_origin_index);
+  }
+  if (c.step_origin_time != 0 || c.step_origin_index != 0) {
+    h5::write_scalar<double>(f, "/step_origin_time", c.step_origin_time);
+    h5::write_scalar<std::int64_t>(f, "/step_origin_index", c.step_origin_index);
   }
   h5::write_dataset(f, "/volume0", {c.volume0.size()}, c.volume0.data());
   std::vector<double> xyz;
@@ -131,6 +139,10 @@ Checkpoint read_checkpoint(const std::string& path) {
     if (H5Lexists(f, "/sample_origin_time", H5P_DEFAULT) > 0) {
       c.sample_origin_time = h5::read_scalar<double>(f, "/sample_origin_time");
       c.sample_origin_index = h5::read_scalar<std::int64_t>(f, "/sample_origin_index");
+    }
+    if (H5Lexists(f, "/step_origin_time", H5P_DEFAULT) > 0) {
+      c.step_origin_time = h5::read_scalar<double>(f, "/step_origin_time");
+      c.step_origin_index = h5::read_scalar<std::int64_t>(f, "/step_origin_index");
     }
     if (c.num_capsules < 1 || c.nodes_per_capsule < 0)
       throw std::runtime_error("num_capsules " + std::to_string(c.num_capsules) +

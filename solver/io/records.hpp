@@ -50,6 +50,10 @@ struct Checkpoint {
   // interval, or a branch from a fixed step, whose samples count steps).
   double sample_origin_time = 0;
   std::int64_t sample_origin_index = 0;
+  // Fixed step: step n ends at step_origin_time + (n - step_origin_index) dt; (0, 0)
+  // unless a branch took another fixed step (its grid starts at its first checkpoint).
+  double step_origin_time = 0;
+  std::int64_t step_origin_index = 0;
   int num_capsules = 1;
   int nodes_per_capsule = 0;
   std::vector<double> volume0; // reference volume of each capsule

@@ -17,7 +17,7 @@ namespace capsim {
 // each sample time, the next_sample-th).
 void RunLoop::write_outputs(long next_sample, double target) {
   const bool last = clock_.finished();
-  const long index = clock_.fixed() ? clock_.steps() : next_sample;
+  const long index = clock_.fixed() ? clock_.grid_steps() : next_sample;
   const bool sample =
       clock_.fixed() ? index % plan_.output.sample_every == 0 || last : time() == target;
   const OutputPlan& every = plan_.output;
@@ -76,6 +76,8 @@ void RunLoop::save_checkpoint() {
   c.sample_origin_time = sample_origin_time_;
   c.sample_origin_index = sample_origin_index_;
   c.step = clock_.steps();
+  c.step_origin_index = clock_.origin().step;
+  c.step_origin_time = clock_.origin().time;
   c.num_capsules = o_.capsules;
   c.nodes_per_capsule = topology().num_nodes;
   c.volume0 = v0_;

@@ -48,38 +48,17 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
   return parse_checkpoint_options(c.options_yaml, overrides, "checkpoint in " + dir);
 }
 
-// A branch keeps the model (Ca, phi, membrane, lambda, mesh, ...). A fixed step's time is
-// its step count times dt, so a branch may take a fixed step only where the run it starts
-// from took the same one (the same dt, dt_safety, scheme and stages); an adaptive step
-// starts from any checkpoint at its time.
+// A branch keeps the model (Ca, phi, membrane, lambda, mesh, ...) and may take other
+// numerics, a fixed step of another size included: that step's grid starts at the
+// checkpoint's time (RunLoop::start_from), so a step compared with another from a
+// developed state needs no run from rest.
 RunOptions branch_options(const std::string& dir, const Checkpoint& c,
                           const std::vector<std::string>& overrides) {
   check_overrides(overrides, may_change_on_branch,
                   "cannot change on --branch (it is the model, not the numerics); only "
                   "the keys of --resume, method, dt, dt_safety, time.*, ewald.*, "
                   "quadrature.* and gmres.* can. Start a new run for other values");
-  const std::string source = "checkpoint in " + dir;
-  const RunOptions from = parse_checkpoint_options(c.options_yaml, {}, source);
-  RunOptions o = parse_checkpoint_options(c.options_yaml, overrides, source);
-  // A fixed step only where the source took the same one: name what would change it.
-  std::string changed;
-  const std::pair<const char*, bool> keys[] = {
-      {"time.tolerance", from.time.tolerance > 0},
-      {"dt", o.dt != from.dt},
-      {"dt_safety", o.dt_safety != from.dt_safety},
-      {"time.scheme", o.time.scheme != from.time.scheme},
-      {"time.stages", o.time.stages != from.time.stages}};
-  for (const auto& [key, differs] : keys)
-    if (differs && changed.empty())
-      changed = key;
-  if (o.time.tolerance <= 0 && !changed.empty())
-    throw ConfigError("--set " + changed +
-                      ": a branch with a fixed step needs the fixed "
-                      "step of the run in " +
-                      dir +
-                      " (its time counts the steps); give "
-                      "time.tolerance > 0 for another scheme or step");
-  return o;
+  return parse_checkpoint_options(c.options_yaml, overrides, "checkpoint in " + dir);
 }
 
 // The run after its set-up, to summary.json; a numerical stop records how it ended.

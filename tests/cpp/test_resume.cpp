@@ -332,17 +332,56 @@ TEST_CASE("branch: a new run from another's checkpoint continues it, with the sa
   // tolerance of 1e-3 a on the nodes (8e-6 measured).
   CHECK(std::abs(c.back().capsules[0].taylor_D - a.back().capsules[0].taylor_D) < 1e-3);
 
-  // The model, or another fixed step, cannot change; the source is never written.
+  // The model cannot change; the source is never written.
   CHECK(run({"run", "-q", "--branch", from.string(), "-o", (from / "x").string(), "--set",
              "ca=0.5"}) == 2);
-  CHECK(run({"run", "-q", "--branch", from.string(), "-o", (from / "y").string(), "--set",
-             "dt_safety=0.5"}) == 2);
   CHECK(run({"run", "-q", "--branch", from.string()}) == 2);
   CHECK(run({"run", "-q", "--branch", from.string(), "-o", imex.string()}) == 2);
   CHECK(fs::last_write_time(from / "checkpoint.h5") == from_files);
   CHECK_FALSE(fs::exists(from / "x"));
-  CHECK_FALSE(fs::exists(from / "y"));
   for (const auto& d : {whole, from, same, imex, halves})
+    fs::remove_all(d);
+}
+
+TEST_CASE("branch: another fixed step counts its steps from the checkpoint's time, and "
+          "paused and resumed it equals the unbroken branch",
+          "[resume][branch]") {
+  fs::path from = fresh_dir("step_from"), whole = fresh_dir("step_whole"),
+           halves = fresh_dir("step_halves");
+  REQUIRE(run(with({"run", "--pause-at", "1", "-o", from.string()}, kCase)) == 0);
+  const Checkpoint start = read_checkpoint((from / "checkpoint.h5").string());
+  // Half the source's step: 0.5 Ca h is no multiple of the source's step's time.
+  const std::vector<std::string> half = {"--set", "dt_safety=0.5"};
+  REQUIRE(run(with({"run", "-q", "--branch", from.string(), "-o", whole.string()},
+                   half)) == 0);
+  REQUIRE(run(with({"run", "-q", "--pause-at", "2", "--branch", from.string(), "-o",
+                    halves.string()},
+                   half)) == 0);
+  const Checkpoint paused = read_checkpoint((halves / "checkpoint.h5").string());
+  CHECK(paused.step_origin_index == start.step);
+  CHECK(paused.step_origin_time == start.time);
+  REQUIRE(run({"run", "-q", "--resume", halves.string()}) == 0);
+
+  const auto w = series_of(whole), h = series_of(halves);
+  const long n = long(start.samples_written);
+  REQUIRE(long(w.size()) > n + 1);
+  // Every row after the checkpoint lies on the new grid, start + k dt, with the step
+  // from the two first rows after it; sample spacing is the nearest whole number of
+  // steps to 0.05, and the last row is the first step at or past t_end = 3.
+  const double dt = (w[n + 1].time - w[n].time) / double(w[n + 1].step - w[n].step);
+  CHECK(w[n].time > start.time);
+  CHECK(w[n].time - start.time == Approx(0.05).margin(dt / 2));
+  for (long i = n; i < long(w.size()); ++i)
+    CHECK(w[i].time ==
+          Approx(start.time + double(w[i].step - start.step) * dt).epsilon(1e-13));
+  CHECK(w.back().time >= 3.0);
+  CHECK(w.back().time < 3.0 + dt);
+  REQUIRE(w.size() == h.size());
+  for (size_t i = 0; i < w.size(); ++i) {
+    CHECK(w[i].time == h[i].time);
+    CHECK(w[i].capsules[0].taylor_D == h[i].capsules[0].taylor_D);
+  }
+  for (const auto& d : {from, whole, halves})
     fs::remove_all(d);
 }
 

@@ -180,4 +180,16 @@ TEST_CASE("time stepper: an adaptive step lands on its target and resumes with t
   fixed.resume(2, 0.6, 0.17, 0); // a fixed step keeps its dt and grid
   CHECK(fixed.dt() == 0.3);
   CHECK(fixed.time() == 2 * 0.3);
+  // A grid from step 5 at 0.55 (a branch's checkpoint): 0.85 after one step, and t_end
+  // 1.0 after two (1.15; the last may pass it).
+  TimeStepper moved(scheme, 0, 0.3, 1e-6, 1.0);
+  moved.resume(5, 0.55, 0, 0, {5, 0.55});
+  CHECK(moved.time() == 0.55);
+  REQUIRE(moved.step_towards(x, 1.0) == StepOutcome::accepted);
+  CHECK(moved.time() == 0.55 + 0.3);
+  CHECK(moved.grid_steps() == 1);
+  CHECK_FALSE(moved.finished());
+  REQUIRE(moved.step_towards(x, 1.0) == StepOutcome::accepted);
+  CHECK(moved.finished());
+  CHECK(moved.steps() == 7);
 }
