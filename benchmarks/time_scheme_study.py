@@ -28,7 +28,7 @@ Cases (names, or a comma-separated list of them):
              points, each from its archived state near gammadot t = 30 (capsim run
              --branch) for 1.5 strain units, window the whole branch: Heun as the grid
              ran it (the record's own numerics) against IMEX at time.tolerance 1e-3, and
-             IMEX at 1e-4 as the reference (a branch cannot take another fixed step)
+             IMEX at 1e-4 as the reference
   developed5 the same branches of IMEX at time.tolerance 1e-3 alone over 5 strain units,
              with its steps in each strain unit (how much the step count varies)
   viscosity_ratio
@@ -40,6 +40,12 @@ Cases (names, or a comma-separated list of them):
              GMRES at 1e-8 as the reference; the lambda 0.2 run's likewise (1e-5, 1e-4
              and 1e-8); with the grid's lambda 1 run at phi 0.1 branched from its state
              for the same strain as the cost's baseline
+  viscosity_step
+             the dense study's lambda 5 runs at phi 0.1 and 0.2 (Ca 0.2, M = 27, level
+             3) from their archived states for 0.5 strain units: Heun at the study's
+             step (the automatic one, lambda 1's) and at 2 and 3 times it (the mesh-scale
+             waves relax (1 + lambda)/2 = 3 times slower at lambda 5), against Heun at
+             half the step with GMRES at 1e-8 as the reference
 Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
 a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
 and N1 from the reference's over the run (the reference interpolated to the row's sample
@@ -79,7 +85,7 @@ IMEX = {"time.scheme": "imex", "time.tolerance": 1e-3}
 REFERENCE = "reference"  # the variant the others' series are held against, where given
 ARCHIVE = ROOT / "archive" / "quantitative"
 BRANCH_STRAIN = {"developed": 1.5, "developed5": 5.0,  # strain units of the branches
-                 "viscosity_ratio": 0.5}
+                 "viscosity_ratio": 0.5, "viscosity_step": 0.5}
 # An adaptive step never passes a sample time: samples every 0.25 leave rkc's step free.
 RKC3 = {"time.scheme": "rkc", "time.stages": 3, "time.tolerance": 1e-3,
         "output.sample_interval": 0.25}
@@ -142,6 +148,15 @@ def cases(name):
                           ARCHIVE / "viscosity_ratio" / f"{run}_lambda0.2", 0.2, 0.1,
                           [("heun_1", {}), ("gmres_1e-4", {"gmres.tolerance": 1e-4}),
                            (REFERENCE, {"gmres.tolerance": 1e-8})])
+    elif name == "viscosity_step":
+        for phi in (0.1, 0.2):
+            record = ARCHIVE / "viscosity_ratio" / f"ca0.2_phi{phi}_M27_level3_seed1_lambda5"
+            # The record's step: the automatic one, lambda 1's at lambda >= 1.
+            dt = json.loads((record / "summary.json").read_text())["dt"]
+            yield branch_case(name, f"phi{phi}", record, 0.2, phi,
+                              [("heun_1", {}), ("dt_2", {"dt": 2 * dt}),
+                               ("dt_3", {"dt": 3 * dt}),
+                               (REFERENCE, {"dt": dt / 2, "gmres.tolerance": 1e-8})])
     elif name in BRANCH_STRAIN:
         for ca in (0.3, 0.4):
             record = ARCHIVE / "grid" / f"ca{ca}_phi0.4_M27_level3_seed1_eb0.025+rep5"
