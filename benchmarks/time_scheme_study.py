@@ -40,16 +40,25 @@ Cases (names, or a comma-separated list of them):
              GMRES at 1e-8 as the reference; the lambda 0.2 run's likewise (1e-5, 1e-4
              and 1e-8); with the grid's lambda 1 run at phi 0.1 branched from its state
              for the same strain as the cost's baseline
+  viscosity_step_dilute
+             one capsule at level 3 to t = 20, window [10, 20]: at lambda 1 (Ca 0.2,
+             0.6) Heun at 1, 1.5 and 2 times the automatic step; at lambda 5 (Ca 0.2,
+             0.6) at 1, 2, 3 and 4.5 times lambda 1's, at lambda 10 (Ca 0.2) at 1, 2, 3
+             and 5.5 times (dt_lambda_max, and dt_safety past (1 + lambda)/2); against
+             half lambda 1's step as the reference: where Heun's stability limit lies
+             and what the step costs in accuracy
   viscosity_step
              the dense study's lambda 5 runs at phi 0.1 and 0.2 (Ca 0.2, M = 27, level
              3) from their archived states for 0.5 strain units: Heun at the study's
              step (the automatic one, lambda 1's) and at 2 and 3 times it (the mesh-scale
              waves relax (1 + lambda)/2 = 3 times slower at lambda 5), against Heun at
-             half the step with GMRES at 1e-8 as the reference
+             half the step with GMRES at 1e-8 as the reference; first the grid's
+             lambda 1 run at phi 0.1 branched from its state, the cost's baseline
 Every run samples every 0.25 strain units (the bending and developed cases every 0.05). Where a case has
 a reference, each row also gives the largest difference of the suspension's mean D, mu_sp
 and N1 from the reference's over the run (the reference interpolated to the row's sample
-times by a cubic spline), relative to the reference's mean over the window. Runs are
+times by a cubic spline), relative to the reference's mean over the window, and the
+relative difference of its window averages from the reference's (_rel_diff). Runs are
 kept in results/benchmarks/schemes/ and reused when finished, so the study can be run in
 pieces. Writes results/benchmarks/time_schemes.json and .md.
 """
@@ -90,6 +99,11 @@ BRANCH_STRAIN = {"developed": 1.5, "developed5": 5.0,  # strain units of the bra
 RKC3 = {"time.scheme": "rkc", "time.stages": 3, "time.tolerance": 1e-3,
         "output.sample_interval": 0.25}
 BRANCHES = {}  # case label: the archive record whose state its runs branch from
+
+
+def lambda_step(factor):
+    """The automatic step at lambda > 1 grown to at most `factor` times lambda 1's."""
+    return {"dt_lambda_max": factor}
 
 
 def imex_rms(tolerance):
@@ -148,9 +162,29 @@ def cases(name):
                           ARCHIVE / "viscosity_ratio" / f"{run}_lambda0.2", 0.2, 0.1,
                           [("heun_1", {}), ("gmres_1e-4", {"gmres.tolerance": 1e-4}),
                            (REFERENCE, {"gmres.tolerance": 1e-8})])
+    elif name == "viscosity_step_dilute":
+        # Heun's stability limit and time error against the step at lambda 1, 5 and 10;
+        # the step as a multiple of lambda 1's automatic one through dt_lambda_max (and
+        # dt_safety beyond (1 + lambda)/2).
+        steps = {"1": [("step_1", {}), ("step_1.5", {"dt_safety": 1.5}),
+                       ("step_2", {"dt_safety": 2})],
+                 "5": [("step_1", lambda_step(1)), ("step_2", lambda_step(2)),
+                       ("step_3", lambda_step(3)),
+                       ("step_4.5", {**lambda_step(3), "dt_safety": 1.5})],
+                 "10": [("step_1", lambda_step(1)), ("step_2", lambda_step(2)),
+                        ("step_3", lambda_step(3)), ("step_5.5", lambda_step(5.5))]}
+        for ratio, ca in (("1", 0.2), ("1", 0.6), ("5", 0.2), ("5", 0.6), ("10", 0.2)):
+            common = dataclasses.replace(dilute(3, ca), options=(("lambda", ratio),))
+            yield (f"dilute_lambda{ratio}_Ca{ca}", common,
+                   steps[ratio] + [(REFERENCE, {**lambda_step(1), "dt_safety": 0.5})])
     elif name == "viscosity_step":
+        # The cost's baseline: the grid's lambda 1 run at phi 0.1 (the one that keeps a
+        # state) branched from it.
+        yield branch_case(name, "phi0.1_lambda1", ARCHIVE / "grid" /
+                          "ca0.2_phi0.1_M27_level3_seed1", 0.2, 0.1, [("heun_1", {})])
         for phi in (0.1, 0.2):
-            record = ARCHIVE / "viscosity_ratio" / f"ca0.2_phi{phi}_M27_level3_seed1_lambda5"
+            run = f"ca0.2_phi{phi}_M27_level3_seed1"
+            record = ARCHIVE / "viscosity_ratio" / f"{run}_lambda5"
             # The record's step: the automatic one, lambda 1's at lambda >= 1.
             dt = json.loads((record / "summary.json").read_text())["dt"]
             yield branch_case(name, f"phi{phi}", record, 0.2, phi,
@@ -305,9 +339,12 @@ def main():
                     row["speedup"] = baseline["wall_s"] / row["wall_s"]
                 case_rows.append((row, folder, spec))
             reference = [f for row, f, _ in case_rows if row["variant"] == REFERENCE]
+            ref_row = [row for row, _, _ in case_rows if row["variant"] == REFERENCE]
             for row, folder, spec in case_rows:
                 if reference and row["variant"] != REFERENCE:
                     row.update(series_error(folder, reference[0], spec))
+                    for key in ("D", "mu_sp", "N1"):  # the window averages' difference
+                        row[f"{key}_rel_diff"] = row[key] / ref_row[0][key] - 1
                 elif not reference and row is not baseline:
                     # Without a reference, the window averages against the baseline's
                     # (runs sampled at other times differ by more than their error

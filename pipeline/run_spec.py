@@ -63,18 +63,20 @@ ADDED_OPTIONS = {
     "lambda": "1",
     "membrane.law": "neo_hookean",
     "gmres.guess": "previous",
+    "dt_lambda_max": "1",
 }
 
 # The options added after the archive's records were keyed (a subset of ADDED_OPTIONS):
 # at the value every earlier run took they leave the key out, as the run is then the
 # earlier one bit for bit, so the records keep their keys; any other value is in it.
-UNKEYED_AT_FORMER_VALUE = ("lambda", "membrane.law", "gmres.guess")
+UNKEYED_AT_FORMER_VALUE = ("lambda", "membrane.law", "gmres.guess", "dt_lambda_max")
 
 # What does not fix the trajectory (see above), and what a dilute run does not use (a key
 # or a prefix of keys).
 NOT_IN_KEY = ("t_end", "t_avg_start", "threads", "backend")
 UNUSED_BY_DILUTE = ("method", "seed", "ewald.", "suspension.")
 UNUSED_AT_LAMBDA_1 = ("gmres.",)  # the second-kind solve's: no solve at lambda = 1
+UNUSED_UP_TO_LAMBDA_1 = ("dt_lambda_max",)  # the automatic step's growth at lambda > 1
 
 
 EDGE_LEVEL3 = 0.151  # mean edge length of the level-3 icosphere of radius 1
@@ -178,11 +180,13 @@ def key_options(options):
     run.yaml, summary.json's parameters or `capsim params --json` hold them): every one
     but NOT_IN_KEY (and UNUSED_BY_DILUTE for phi = 0), ADDED_OPTIONS filled in, those of
     UNKEYED_AT_FORMER_VALUE left out at their former value, UNUSED_AT_LAMBDA_1 at
-    lambda = 1, in one spelling."""
+    lambda = 1 and UNUSED_UP_TO_LAMBDA_1 at lambda <= 1, in one spelling."""
     flat = {**ADDED_OPTIONS, **flat_options(options)}
     dilute = float(flat.get("phi", 0)) == 0
+    ratio = float(flat["lambda"])
     unused = (UNUSED_BY_DILUTE if dilute else ()) + (
-        UNUSED_AT_LAMBDA_1 if float(flat["lambda"]) == 1 else ())
+        UNUSED_AT_LAMBDA_1 if ratio == 1 else ()) + (
+        UNUSED_UP_TO_LAMBDA_1 if ratio <= 1 else ())
     former = {key for key in UNKEYED_AT_FORMER_VALUE
               if _canonical(flat[key]) == _canonical(ADDED_OPTIONS[key])}
     return {key: _canonical(value) for key, value in sorted(flat.items())
@@ -352,11 +356,16 @@ class RunSpec:
         benchmarks/records/build_compare_defaults.json, whose step was 1.22-1.26 times
         the profile's, build_compare.json). A capsule of another viscosity (lambda != 1)
         solves for its velocity each evaluation: lambda_cost_ratio times lambda 1's
-        cost. imex at a given time.tolerance T takes steps of about 0.50 sqrt(T) that
-        bending does not shorten, each 1.15 times Heun's (measured at two dense bending
-        points developed, where the model gives 1.64 and 1.23 times less than Heun
-        against 1.62 and 1.27 measured); at time.tolerance auto it is estimated as Heun
-        (within 15 % at one of them from rest)."""
+        cost at lambda 1's step, the default; a dt_lambda_max given to a run at
+        lambda > 1 grows the step by g = min((1 + lambda)/2, dt_lambda_max) and divides
+        the cost by g^0.65, not g, as a longer step's solves take more GMRES iterations
+        (measured at lambda 5, Ca 0.2, phi 0.1: 1.55 and 2.15 times less at g = 2 and
+        3, docs/time_stepping.md). imex at a given
+        time.tolerance T takes steps of about 0.50 sqrt(T) that bending does not
+        shorten, each 1.15 times Heun's (measured at two dense bending points developed,
+        where the model gives 1.64 and 1.23 times less than Heun against 1.62 and 1.27
+        measured); at time.tolerance auto it is estimated as Heun (within 15 % at one of
+        them from rest)."""
         per_level = 10.8 ** (self.level - 3)
         base = 0.5 if self.dilute else 17.5 * self.M / 27
         eb = membrane_codes.parse(self.membrane, "membrane").get("eb", 0.0)
@@ -368,10 +377,14 @@ class RunSpec:
         rkc3 = option_value(given.get("time.scheme", "")) == "rkc" and \
             str(option_value(given.get("time.stages", ""))) == "3"
         tolerance = given.get("gmres.tolerance")
-        solved = lambda_cost_ratio(self.level, float(option_value(given.get("lambda", 1))),
-                                   dense=not self.dilute,
+        ratio = float(option_value(given.get("lambda", 1)))
+        solved = lambda_cost_ratio(self.level, ratio, dense=not self.dilute,
                                    tolerance=None if tolerance is None
                                    else float(option_value(tolerance)))
+        # The ratios were measured at lambda 1's step, the default; dt_lambda_max grows it.
+        most = given.get("dt_lambda_max")
+        if ratio > 1 and most is not None:
+            solved /= min(0.5 * (1 + ratio), float(option_value(most))) ** 0.65
         # The time loop's cost against Heun's at the Table 1 point (dt = 0.2 h): Heun's
         # steps per strain, or imex's times the cost of its step.
         stepping = stiff * 0.2 / self.ca

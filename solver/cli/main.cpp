@@ -59,10 +59,10 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option("--branch", a.branch_dir,
                   "start a new run (-o) from the last checkpoint of the run in this "
                   "folder, with its time series up to there; with --set, the keys of "
-                  "--resume and the numerics (method, dt, dt_safety, time.*, ewald.*, "
-                  "quadrature.*, gmres.*) may change, e.g. to compare time schemes or "
-                  "steps from a developed suspension (another fixed step counts its "
-                  "steps from the checkpoint's time)")
+                  "--resume and the numerics (method, dt, dt_safety, dt_lambda_max, "
+                  "time.*, ewald.*, quadrature.*, gmres.*) may change, e.g. to compare "
+                  "time schemes or steps from a developed suspension (another fixed "
+                  "step counts its steps from the checkpoint's time)")
       ->check(CLI::ExistingDirectory);
   run->add_flag("-q,--quiet", a.quiet, "no progress lines on stderr");
   run->add_option("--pause-at", a.pause_at,

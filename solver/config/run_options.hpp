@@ -50,6 +50,7 @@ struct RunOptions {
   int mesh_level = 3;           // icosphere level: 2, 3, 4 = 320, 1280, 5120 triangles
   double dt = 0.0;              // time step in strain units; 0 = automatic ("auto")
   double dt_safety = 1.0;       // C in the automatic step dt = C Ca h (limit ~1.5)
+  double dt_lambda_max = 1.0;   // lambda > 1: the automatic step's most growth
   TimeOptions time;             // scheme and adaptive step
   double t_end = 20.0;          // end of the run, gammadot t
   double t_avg_start = 10.0;    // start of the averaging window, gammadot t

@@ -20,7 +20,7 @@ bool may_change_on_resume(const std::string& key) {
 bool may_change_on_branch(const std::string& key) {
   static const char* const numerical[] = {"time.", "ewald.", "quadrature.", "gmres."};
   return may_change_on_resume(key) || key == "method" || key == "dt" ||
-         key == "dt_safety" ||
+         key == "dt_safety" || key == "dt_lambda_max" ||
          std::any_of(std::begin(numerical), std::end(numerical),
                      [&](const char* prefix) { return key.rfind(prefix, 0) == 0; });
 }
@@ -54,10 +54,11 @@ RunOptions resume_options(const std::string& dir, const Checkpoint& c,
 // developed state needs no run from rest.
 RunOptions branch_options(const std::string& dir, const Checkpoint& c,
                           const std::vector<std::string>& overrides) {
-  check_overrides(overrides, may_change_on_branch,
-                  "cannot change on --branch (it is the model, not the numerics); only "
-                  "the keys of --resume, method, dt, dt_safety, time.*, ewald.*, "
-                  "quadrature.* and gmres.* can. Start a new run for other values");
+  check_overrides(
+      overrides, may_change_on_branch,
+      "cannot change on --branch (it is the model, not the numerics); only "
+      "the keys of --resume, method, dt, dt_safety, dt_lambda_max, time.*, ewald.*, "
+      "quadrature.* and gmres.* can. Start a new run for other values");
   return parse_checkpoint_options(c.options_yaml, overrides, "checkpoint in " + dir);
 }
 

@@ -103,6 +103,21 @@ TEST_CASE(
   CHECK(rkc.time.stages == 3);
   CHECK(rkc.time.dt == heun.time.dt * stability_ratio(TimeScheme::rkc, 3));
 
+  // The viscosity ratio: the mesh-scale waves relax (1 + lambda)/2 times slower, so the
+  // step shrinks as much below lambda 1 and grows as much above it, up to dt_lambda_max
+  // (by default 1: lambda 1's step).
+  const auto step_at = [](const std::string& lambda, const std::string& most) {
+    return plan_of({"mesh_level=2", "lambda=" + lambda, "dt_lambda_max=" + most}).time.dt;
+  };
+  CHECK(step_at("1", "2") == heun.time.dt);
+  CHECK(step_at("0.2", "2") == Approx(0.6 * heun.time.dt).epsilon(1e-14));
+  CHECK(step_at("2", "2") == Approx(1.5 * heun.time.dt).epsilon(1e-14));
+  CHECK(step_at("5", "2") == Approx(2 * heun.time.dt).epsilon(1e-14));
+  CHECK(step_at("5", "3") == Approx(3 * heun.time.dt).epsilon(1e-14));
+  CHECK(step_at("5", "50") == Approx(3 * heun.time.dt).epsilon(1e-14));
+  CHECK(step_at("5", "1") == heun.time.dt); // lambda 1's step, as runs took before
+  CHECK(plan_of({"mesh_level=2", "lambda=5"}).time.dt == heun.time.dt);
+
   const RunPlan given = plan_of({"mesh_level=2", "dt=0.01", "time.tolerance=1e-3",
                                  "time.error_norm=rms", "output.snapshot_interval=0"});
   CHECK(given.time.dt == 0.01);

@@ -467,6 +467,17 @@ def test_case6_the_key_follows_the_solver_s_own_defaults(study):
         assert run_spec.options_key(without, "1") == run_spec.options_key(resolved, "1")
         assert run_spec.options_key({**resolved, key: other}, "1") != \
             run_spec.options_key(resolved, "1")
+    # dt_lambda_max (the automatic step's growth above lambda 1) keys a run only where
+    # it acts, at lambda > 1, and there not at 1, the step every earlier run took.
+    for ratio in ("1", "0.2"):
+        at = {**resolved, "lambda": ratio}
+        assert run_spec.options_key({**at, "dt_lambda_max": "3"}, "1") == \
+            run_spec.options_key({k: v for k, v in at.items() if k != "dt_lambda_max"}, "1")
+    above = {k: v for k, v in resolved.items() if k != "dt_lambda_max"} | {"lambda": "5"}
+    assert run_spec.options_key({**above, "dt_lambda_max": "1"}, "1") == \
+        run_spec.options_key(above, "1")
+    assert run_spec.options_key({**above, "dt_lambda_max": "2"}, "1") != \
+        run_spec.options_key(above, "1")
     # A dilute run does not use the periodic sums: they are not in its key.
     dilute = run_spec.resolved_options(CAPSIM, [])
     assert run_spec.options_key({**dilute, "ewald.precision": "single"}, "1") == \
