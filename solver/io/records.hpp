@@ -51,7 +51,7 @@ struct Checkpoint {
   double sample_origin_time = 0;
   std::int64_t sample_origin_index = 0;
   // Fixed step: step n ends at step_origin_time + (n - step_origin_index) dt; (0, 0)
-  // unless a branch took another fixed step (its grid starts at its first checkpoint).
+  // unless a branch took another fixed step (its grid starts where it branched).
   double step_origin_time = 0;
   std::int64_t step_origin_index = 0;
   int num_capsules = 1;
