@@ -42,7 +42,12 @@ void TimeStepper::resume(long steps, double t, double next_dt, long rejected,
   t_ = t;
   rejected_ = rejected;
   origin_ = origin;
-  fixed_steps_ = last_fixed_step(origin, t_end_, dt_);
+  // A fixed step whose grid misses t (a branch with another step, or from an adaptive
+  // one) starts its grid there; on its own grid (a resume, a branch with the same step)
+  // it goes on as the unbroken run.
+  if (fixed() && time() != t)
+    origin_ = {steps, t};
+  fixed_steps_ = last_fixed_step(origin_, t_end_, dt_);
   if (!fixed() && next_dt > 0)
     dt_ = next_dt;
 }

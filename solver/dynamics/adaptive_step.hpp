@@ -86,7 +86,7 @@ public:
   long steps() const { return steps_; }       // accepted so far
   long rejected() const { return rejected_; } // rejected so far
   // Continues a run from its checkpoint (next_dt <= 0: none saved, keep dt) on the
-  // fixed step's grid from `origin`.
+  // fixed step's grid from `origin`, or from (steps, t) where that grid misses t.
   void resume(long steps, double t, double next_dt, long rejected,
               StepOrigin origin = {});
 

@@ -68,11 +68,6 @@ void RunLoop::start_from(const Checkpoint& c) {
   v0_ = c.volume0;
   clock_.resume(c.step, c.time, c.next_dt, c.rejected_steps,
                 {long(c.step_origin_index), c.step_origin_time});
-  // A fixed step whose grid misses the checkpoint's time (a branch with another step,
-  // or from an adaptive one) starts its grid there; on its own grid (a resume, a branch
-  // with the same step) it goes on as the unbroken run.
-  if (clock_.fixed() && clock_.time() != c.time)
-    clock_.resume(c.step, c.time, c.next_dt, c.rejected_steps, {long(c.step), c.time});
   files_.resume(c, o_);
   sample_origin_time_ = c.sample_origin_time;
   sample_origin_index_ = long(c.sample_origin_index);
