@@ -338,13 +338,14 @@ def main():
                 else:
                     row["speedup"] = baseline["wall_s"] / row["wall_s"]
                 case_rows.append((row, folder, spec))
-            reference = [f for row, f, _ in case_rows if row["variant"] == REFERENCE]
-            ref_row = [row for row, _, _ in case_rows if row["variant"] == REFERENCE]
+            reference = [(row, f) for row, f, _ in case_rows
+                         if row["variant"] == REFERENCE]
             for row, folder, spec in case_rows:
                 if reference and row["variant"] != REFERENCE:
-                    row.update(series_error(folder, reference[0], spec))
+                    ref_row, ref_folder = reference[0]
+                    row.update(series_error(folder, ref_folder, spec))
                     for key in ("D", "mu_sp", "N1"):  # the window averages' difference
-                        row[f"{key}_rel_diff"] = row[key] / ref_row[0][key] - 1
+                        row[f"{key}_rel_diff"] = row[key] / ref_row[key] - 1
                 elif not reference and row is not baseline:
                     # Without a reference, the window averages against the baseline's
                     # (runs sampled at other times differ by more than their error
@@ -355,9 +356,9 @@ def main():
                 print(json.dumps(row), flush=True)
     (OUT / "time_schemes.json").write_text(json.dumps(rows, indent=1))
     table = pd.DataFrame(rows)
-    if "steps_per_strain_unit" in table:  # a list a row: its counts in one cell
+    if "steps_per_strain_unit" in table:  # a list a branch's row: its counts in one cell
         table["steps_per_strain_unit"] = table["steps_per_strain_unit"].map(
-            lambda counts: " ".join(map(str, counts)))
+            lambda counts: " ".join(map(str, counts)) if isinstance(counts, list) else "")
     (OUT / "time_schemes.md").write_text(markdown_table(table, na_rep=""))
     print(f"wrote {OUT / 'time_schemes.json'}")
     if a.out:
