@@ -41,11 +41,13 @@ def draw(ax, run, mode):
     caps = wrap_capsules(nodes, capsules, side, s)
     per = tris[: len(tris) // capsules] % (len(nodes) // capsules)
     faces = np.concatenate([c[per] for c in caps])
+    # The surfaces are drawn as an image in the PDF too (at savefig.dpi): as vectors they
+    # are a million triangles, a PDF of 16 MB that took most of the figure's minutes.
     for off in image_offsets(side, s, mode):
         ax.add_collection3d(Poly3DCollection(faces + off, facecolor="0.35", edgecolor="none",
-                                             alpha=0.35))
+                                             alpha=0.35, rasterized=True))
     ax.add_collection3d(Poly3DCollection(faces, facecolor="#f4c27a", edgecolor="0.3",
-                                         linewidth=0.05))
+                                         linewidth=0.05, rasterized=True))
     ax.add_collection3d(Line3DCollection(cube_edges(side), colors="k", linewidths=0.8))
     reach = side * (2.0 if mode != "none" else 1.0)
     lo = -side if mode != "none" else 0
