@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Runs every test: sets up and builds (scripts/setup.sh), starts the Python suite's
-# cluster tests in the background (the SLURM profile on a one-node SLURM started on this
-# machine, as root), then builds the C++ suite with the address and undefined-behaviour
-# sanitizers and the CUDA backend in host emulation (build-sanitize/), runs the CUDA
-# backend's self-test on the CPU with that build's capsim and the C++ suite under the
+# Runs every test: sets up and builds (scripts/setup.sh), builds the C++ suite with the
+# address and undefined-behaviour sanitizers and the CUDA backend in host emulation
+# (build-sanitize/), starts the Python suite's cluster tests in the background (the SLURM
+# profile on a one-node SLURM started on this machine, as root), runs the CUDA backend's
+# self-test on the CPU with that build's capsim and the C++ suite under the
 # sanitizers, then the C++ suite with ctest, prints the cluster tests' report and runs
 # the rest of the Python suite with pytest. All parts always run; pytest's summary is the
 # last line. Exits non-zero if setup or any of them failed.
@@ -99,28 +99,27 @@ run_part() {
 bash scripts/setup.sh
 
 # The cluster tests (test_slurm.py, and test_workflow_ci.py, whose local ci workflow
-# test_slurm.py compares with) spend most of their five minutes waiting for SLURM: they
-# run in the background while the sanitized build and the C++ suites keep the cores
-# busy (99 s less in all than after them on 2 cores, docs/reliability.md), and their
-# report follows ctest's.
+# test_slurm.py compares with) keep about 63 % of 2 cores busy alone (314 s, 394 CPU s):
+# they mostly wait for SLURM. They start after the sanitized build, which keeps both cores
+# busy by itself (beside it the build took 559 s instead of 239 s), and run in the
+# background beside the C++ suites; their report follows ctest's (docs/reliability.md).
 CLUSTER_TESTS=(tests/python/test_slurm.py tests/python/test_workflow_ci.py)
 CLUSTER_LOG=$(mktemp)
+
+build_rc=0
+run_part "build-sanitize/ (AddressSanitizer, UndefinedBehaviorSanitizer, CUDA backend emulated)" \
+  sanitized_build || build_rc=$?
 echo "test: Python cluster tests (${CLUSTER_TESTS[*]}) started in the background"
 .venv/bin/python -m pytest "${CLUSTER_TESTS[@]}" -q --durations=5 >"$CLUSTER_LOG" 2>&1 &
 cluster_pid=$!
 cluster_start=$(date +%s)
-
-sanitize_rc=0
-emulate_rc=0
-if run_part "build-sanitize/ (AddressSanitizer, UndefinedBehaviorSanitizer, CUDA backend emulated)" \
-  sanitized_build; then
+sanitize_rc=$build_rc
+emulate_rc=$build_rc
+if [ "$build_rc" -eq 0 ]; then
   run_part "CUDA backend emulated on the CPU (build-sanitize/capsim selftest --backend cuda)" \
     emulated_device_selftest || emulate_rc=$?
   run_part "C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)" \
     sanitized_suite || sanitize_rc=$?
-else
-  sanitize_rc=1
-  emulate_rc=1
 fi
 ctest_rc=0
 run_part "C++ suite (ctest)" ctest_suite build || ctest_rc=$?
