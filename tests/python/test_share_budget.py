@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.share_budget import budget
+from analysis.share_budget import budget, lengthened, plan, share_se
 
 
 def test_each_input_alone_and_all_together_follow_the_delta_method():
@@ -25,3 +25,50 @@ def test_each_input_alone_and_all_together_follow_the_delta_method():
     assert row.se_from_a2 == pytest.approx(phi**2 * se_c2 / y, rel=1e-12)
     assert row.se == pytest.approx(np.sqrt(row.se_from_mu_sp**2 + row.se_from_a1**2
                                            + row.se_from_a2**2), rel=1e-12)
+
+
+def _grid(se_low=1e-3, se_high=0.04, t_end=30.0, se_dilute=0.0):
+    """One Ca's dilute row and its runs at phi 0.05, 0.1 and 0.4, [10, t_end]."""
+    def row(phi, y, se):
+        return {"ca": 0.3, "phi": phi, "intrinsic": int(phi == 0), "count": 100,
+                "mu_sp": y, "mu_sp_se": se, "N1": y, "N1_se": se, "t_start": 10.0,
+                "t_end": t_end, "ended": "t_end"}
+    return pd.DataFrame([row(0.0, 1.9, se_dilute), row(0.05, 0.097, se_low),
+                         row(0.1, 0.20, se_low), row(0.4, 1.04, se_high)])
+
+
+def test_the_plan_lengthens_to_the_target_by_the_square_root_of_the_window():
+    # se_high small: the central difference of 1/y errs by (se / y)^2 relative.
+    table = _grid(se_high=0.004)
+    now = share_se(table, 0.3, 0.4)
+    row = plan(table, 0.4, 0.5 * now, {}).iloc[0]
+    assert row.se == pytest.approx(now, rel=1e-12)
+    assert row.floor == pytest.approx(share_se(_grid(0.0, 0.0), 0.3, 0.4), abs=1e-12)
+    # Every error falls as the window's square root: half the error, four times the
+    # window (to the root finder's 0.1 strain units).
+    assert row.t_end_needed - 10.0 == pytest.approx(4 * 20.0, abs=0.1)
+    longer = lengthened(table, 0.3, 0.4, row.t_end_needed, {})
+    assert share_se(longer, 0.3, 0.4) == pytest.approx(0.5 * now, rel=1e-3)
+    kept = ["mu_sp_se", "t_end"]  # the dilute run is not lengthened
+    assert (longer.loc[0, kept] == table.loc[0, kept]).all()
+
+
+def test_an_extrapolations_model_part_is_a_floor_no_run_length_passes():
+    table = _grid()
+    model = {(0.3, 0.4): 0.03}  # of the 0.04 at phi 0.4, 0.03 does not fall with the window
+    row = plan(table, 0.4, 1e-3, model).iloc[0]
+    floor_y = (1.9 * 0.4 + ((0.097 - 1.9 * 0.05) * 0.05**2 + (0.20 - 0.19) * 0.1**2)
+               / (0.05**4 + 0.1**4) * 0.4**2) / 1.04**2 * 0.03  # d share / d y times 0.03
+    assert row.floor == pytest.approx(floor_y, rel=1e-3)
+    assert np.isinf(row.t_end_needed)
+    target = (row.floor + row.se) / 2
+    reached = plan(table, 0.4, target, model).iloc[0]
+    longer = lengthened(table, 0.3, 0.4, reached.t_end_needed, model)
+    assert share_se(longer, 0.3, 0.4) == pytest.approx(target, rel=1e-3)
+    assert longer.loc[3, "mu_sp_se"] > 0.03
+
+
+def test_a_target_already_met_needs_no_longer_run():
+    table = _grid(se_low=1e-5, se_high=1e-4)
+    row = plan(table, 0.4, 0.01, {}).iloc[0]
+    assert row.t_end_needed == 30.0 and row.stopped == ""
