@@ -124,7 +124,7 @@ main() {
   for arg in "$@"; do
     case "$arg" in
       --no-build) build=0 ;;
-      -h | --help) sed -n '2,17p' "$0"; exit 0 ;;
+      -h | --help) sed -n '2,/^set /{/^#/p}' "$0"; exit 0 ;;
       *) die "unknown argument '$arg' (try --help)" ;;
     esac
   done
