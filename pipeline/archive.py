@@ -68,6 +68,13 @@ FORMAT = 1
 RECORD = "record.json"
 SUMMARY, RUN_YAML, SERIES = "summary.json", "run.yaml", "timeseries.h5"
 STATE = "state.h5"
+# Rows per compressed chunk of a record's series. A run taken further (a raised t_end, a
+# segment more) is recorded again whole, but its earlier rows are the same, and so are
+# their complete chunks byte for byte: git's packs store such a file as a delta of the
+# last (a run recorded at four lengths: 4.26 MB packed against 4.18 MB for its last file
+# alone; 6.56 MB in chunks of 4096 rows, about 190 strain units, which change until a
+# run has passed them). Chunks of 256 rows (about 11 strain units) gzip 2 % larger.
+CHUNK_ROWS = 256
 CHECKPOINT = "checkpoint.h5"
 # Written into a run folder restored from a record: the record, its key and physics
 # version, and the sha256 of every file restored, so that the folder is known for what it
@@ -144,7 +151,8 @@ def _copy_series(source, target, dtype, compress):
             data = obj[()]
             if name.startswith("capsule/"):
                 data = data.astype(dtype)
-            chunks = (min(max(1, data.shape[0]), 4096 if compress else 64),) + data.shape[1:]
+            rows = CHUNK_ROWS if compress else 64
+            chunks = (min(max(1, data.shape[0]), rows),) + data.shape[1:]
             extra = {"compression": "gzip", "compression_opts": 9, "shuffle": True} \
                 if compress else {}
             out = dst.create_dataset(name, data=data, chunks=chunks,

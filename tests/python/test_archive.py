@@ -528,3 +528,30 @@ def test_case8_a_killed_attempt_s_cpu_time_is_in_the_segments(tmp_path, monkeypa
     segments = json.loads((run_dir / "segments.json").read_text())
     assert len(segments) == 1 and segments[0]["cpu_seconds"] >= 0.25
     assert segments[0]["ended"] == "killed by signal 9 (SIGKILL)"
+
+
+def test_a_longer_run_s_series_repeats_the_shorter_s_complete_chunks(tmp_path):
+    # A run recorded again further on (a raised t_end, the next segment) keeps its
+    # earlier rows, and the record's compressed chunks of them stay the same bytes, which
+    # git's packs then store once (archive.CHUNK_ROWS).
+    rows, capsules = 3 * archive.CHUNK_ROWS + 40, 3
+    rng = np.random.default_rng(1)
+    with h5py.File(tmp_path / "capsim.h5", "w") as f:
+        f["time"] = 0.05 * np.arange(rows)
+        f["step"] = np.arange(rows, dtype=np.int64)
+        f["capsule/stresslet"] = rng.normal(size=(rows, capsules, 3, 3))
+    full, short = tmp_path / "full.h5", tmp_path / "short.h5"
+    archive.compact_series(tmp_path / "capsim.h5", full)
+    with h5py.File(tmp_path / "capsim.h5", "r") as f, \
+            h5py.File(tmp_path / "prefix.h5", "w") as g:
+        for name in ("time", "step", "capsule/stresslet"):
+            g[name] = f[name][: 2 * archive.CHUNK_ROWS + 7]
+    archive.compact_series(tmp_path / "prefix.h5", short)
+    with h5py.File(full, "r") as a, h5py.File(short, "r") as b:
+        for name in ("time", "capsule/stresslet"):
+            zeros = (0,) * (a[name].ndim - 1)
+            for k in range(2):  # the two chunks the shorter series fills
+                at = (k * archive.CHUNK_ROWS,) + zeros
+                assert a[name].id.read_direct_chunk(at) == b[name].id.read_direct_chunk(at)
+            at = (2 * archive.CHUNK_ROWS,) + zeros  # its last, partial one differs
+            assert a[name].id.read_direct_chunk(at) != b[name].id.read_direct_chunk(at)
