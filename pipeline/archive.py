@@ -14,8 +14,9 @@ A record is a folder <archive>/<study>/<name>/, the run folder's own path under 
     state.h5         a capsim checkpoint: the latest of an unfinished run (to continue
                      from); of a finished run, the start of its last segment (an audit
                      replays that segment and compares rows; raising t_end continues
-                     from it), none where it ran in one segment; of a dilute run, its
-                     end (figure 1 reads its capsule; a few kB)
+                     from it), none where it ran in one segment, its end where it
+                     lengthened a record without a state; of a dilute run, its end
+                     (figure 1 reads its capsule; a few kB)
     snapshot_*.h5    the last mesh snapshot, for runs that write snapshots (figure 2)
 
 Why not Snakemake's own mechanisms: its between-workflow cache (`--cache`) stores whole
@@ -395,6 +396,13 @@ def _write_record(run_dir, record_dir, key, previous, finished, t, final_state):
                     and previous["state_time"] < t):  # the start of the last segment
                 shutil.copyfile(record_dir / STATE, tmp / STATE)
                 state_time = previous["state_time"]
+            elif previous:
+                # A longer run of a record that kept no state (one segment, t_end since
+                # raised) computed its start again: its progress was no record's until
+                # it passed the old end, so the start of its last segment was never
+                # kept. Its end is, lest the next raise compute it all a third time.
+                shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
+                state_time = _checkpoint_time(run_dir / CHECKPOINT)
         else:
             shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
             state_time = t

@@ -555,3 +555,25 @@ def test_a_longer_run_s_series_repeats_the_shorter_s_complete_chunks(tmp_path):
                 assert a[name].id.read_direct_chunk(at) == b[name].id.read_direct_chunk(at)
             at = (2 * archive.CHUNK_ROWS,) + zeros  # its last, partial one differs
             assert a[name].id.read_direct_chunk(at) != b[name].id.read_direct_chunk(at)
+
+
+def test_a_lengthened_record_without_a_state_keeps_its_end(tmp_path):
+    """A run of one segment keeps no state; raised to a longer t_end it is computed again
+    from the start, in segments, and its progress is no record's until it passes the old
+    end. The longer record keeps its end instead, so that a second raise continues from
+    there rather than computing the run a third time."""
+    store = tmp_path / "store"
+    one = {**STUDY, "archive": str(store), "segments": {"strain": None, "minutes": None},
+           "initial": {**STUDY["initial"], "seeds": [1], "t_end": 0.4}}
+    assert snakemake(tmp_path / "a", one, FIGURE).returncode == 0
+    record_dir = store / "initial" / RUNS[0].split("/")[-1]
+    assert archive.read_record(record_dir)["state_time"] is None
+    # Two segments, the first ending before the old end (nothing new to record there).
+    longer = {**one, "segments": {"strain": 0.3}, "initial": {**one["initial"], "t_end": 0.5}}
+    done = snakemake(tmp_path / "b", longer, FIGURE)
+    assert done.returncode == 0, done.stderr[-3000:]
+    record = archive.read_record(record_dir)
+    assert record["finished"] and record["state_time"] == pytest.approx(record["t_reached"])
+    again = {**longer, "initial": {**longer["initial"], "t_end": 0.6}}
+    dry = snakemake(tmp_path / "c", again, FIGURE, dry=True)
+    assert "1 run(s) to restore and continue" in dry.stderr, dry.stderr[-3000:]
