@@ -565,15 +565,16 @@ def test_a_lengthened_record_without_a_state_keeps_its_end(tmp_path):
     store = tmp_path / "store"
     one = {**STUDY, "archive": str(store), "segments": {"strain": None, "minutes": None},
            "initial": {**STUDY["initial"], "seeds": [1], "t_end": 0.4}}
-    assert snakemake(tmp_path / "a", one, FIGURE).returncode == 0
+    summary = f"{RUNS[0]}/summary.json"  # the run alone: no figure to draw
+    assert snakemake(tmp_path / "a", one, summary).returncode == 0
     record_dir = store / "initial" / RUNS[0].split("/")[-1]
     assert archive.read_record(record_dir)["state_time"] is None
     # Two segments, the first ending before the old end (nothing new to record there).
     longer = {**one, "segments": {"strain": 0.3}, "initial": {**one["initial"], "t_end": 0.5}}
-    done = snakemake(tmp_path / "b", longer, FIGURE)
+    done = snakemake(tmp_path / "b", longer, summary)
     assert done.returncode == 0, done.stderr[-3000:]
     record = archive.read_record(record_dir)
     assert record["finished"] and record["state_time"] == pytest.approx(record["t_reached"])
     again = {**longer, "initial": {**longer["initial"], "t_end": 0.6}}
-    dry = snakemake(tmp_path / "c", again, FIGURE, dry=True)
+    dry = snakemake(tmp_path / "c", again, summary, dry=True)
     assert "1 run(s) to restore and continue" in dry.stderr, dry.stderr[-3000:]
