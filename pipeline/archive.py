@@ -389,18 +389,16 @@ def _write_record(run_dir, record_dir, key, previous, finished, t, final_state):
         state_time = None
         if finished:
             shutil.copyfile(run_dir / SUMMARY, tmp / SUMMARY)
-            if final_state:
-                shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
-                state_time = _checkpoint_time(run_dir / CHECKPOINT)
-            elif (previous and previous["state_time"] is not None
-                    and previous["state_time"] < t):  # the start of the last segment
-                shutil.copyfile(record_dir / STATE, tmp / STATE)
-                state_time = previous["state_time"]
-            elif previous:
-                # A longer run of a record that kept no state (one segment, t_end since
-                # raised) computed its start again: its progress was no record's until
-                # it passed the old end, so the start of its last segment was never
-                # kept. Its end is, lest the next raise compute it all a third time.
+            kept = previous["state_time"] if previous else None
+            if not final_state and kept is not None and kept < t:
+                shutil.copyfile(record_dir / STATE, tmp / STATE)  # the last segment's start
+                state_time = kept
+            elif final_state or previous:
+                # With a previous record but none of its state: a longer run of a record
+                # that kept none (one segment, t_end since raised) computed its start
+                # again, and its progress was no record's until it passed the old end, so
+                # the start of its last segment was never kept. Its end is, lest the next
+                # raise compute it all a third time.
                 shutil.copyfile(run_dir / CHECKPOINT, tmp / STATE)
                 state_time = _checkpoint_time(run_dir / CHECKPOINT)
         else:

@@ -27,13 +27,13 @@ def test_each_input_alone_and_all_together_follow_the_delta_method():
                                            + row.se_from_a2**2), rel=1e-12)
 
 
-def _grid(se_low=1e-3, se_high=0.04, t_end=30.0, se_dilute=0.0):
-    """One Ca's dilute row and its runs at phi 0.05, 0.1 and 0.4, [10, t_end]."""
+def _grid(se_low=1e-3, se_high=0.04):
+    """One Ca's dilute row (no error) and its runs at phi 0.05, 0.1 and 0.4, [10, 30]."""
     def row(phi, y, se):
         return {"ca": 0.3, "phi": phi, "intrinsic": int(phi == 0), "count": 100,
                 "mu_sp": y, "mu_sp_se": se, "N1": y, "N1_se": se, "t_start": 10.0,
-                "t_end": t_end, "ended": "t_end"}
-    return pd.DataFrame([row(0.0, 1.9, se_dilute), row(0.05, 0.097, se_low),
+                "t_end": 30.0, "ended": "t_end"}
+    return pd.DataFrame([row(0.0, 1.9, 0.0), row(0.05, 0.097, se_low),
                          row(0.1, 0.20, se_low), row(0.4, 1.04, se_high)])
 
 
