@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# Runs every test: sets up and builds (scripts/setup.sh), builds the C++ suite with the
-# address and undefined-behaviour sanitizers and the CUDA backend in host emulation
-# (build-sanitize/), runs the CUDA backend's self-test on the CPU with that build's capsim
-# and the C++ suite under the sanitizers, then the C++ suite with ctest, the Python
-# suite's cluster tests (the SLURM profile on a one-node SLURM started on this machine, as
-# root) and the rest of the Python suite with pytest. All parts always run; pytest's
-# summary is the last line. Exits non-zero if setup or any of them failed.
+# Runs every test: sets up and builds (scripts/setup.sh); then, in the background at the
+# lowest priority, builds the C++ suite with the address and undefined-behaviour
+# sanitizers and the CUDA backend in host emulation (build-sanitize/) and runs the CUDA
+# backend's self-test on the CPU with that build's capsim and the C++ suite under the
+# sanitizers; meanwhile the Python suite's cluster tests (the SLURM profile on a one-node
+# SLURM started on this machine, as root) and the C++ suite with ctest; last the rest of
+# the Python suite with pytest. All parts always run; pytest's summary is the last line.
+# Exits non-zero if setup or any of them failed.
 #
 # Environment: CAPSIM_JOBS=N (parallel build and test jobs, default 2),
 #              CAPSIM_TEST_TIMEOUT=S (default per-test limit in seconds for ctest, 900).
+# (`scripts/test.sh --sanitized-part` is how it starts the sanitized part in the
+# background; not meant to be called alone.)
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -95,34 +98,67 @@ run_part() {
   return "$rc"
 }
 
+# The sanitized part: its build, then the emulated self-test and the suite where it
+# built; writes their exit codes (self-test, suite) to the file $1.
+sanitized_part() {
+  local build_rc=0 emulate_rc sanitize_rc
+  run_part "build-sanitize/ (AddressSanitizer, UndefinedBehaviorSanitizer, CUDA backend emulated)" \
+    sanitized_build || build_rc=$?
+  emulate_rc=$build_rc
+  sanitize_rc=$build_rc
+  if [ "$build_rc" -eq 0 ]; then
+    run_part "CUDA backend emulated on the CPU (build-sanitize/capsim selftest --backend cuda)" \
+      emulated_device_selftest || emulate_rc=$?
+    run_part "C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)" \
+      sanitized_suite || sanitize_rc=$?
+  fi
+  echo "$emulate_rc $sanitize_rc" >"$1"
+}
+
+if [ "${1:-}" = "--sanitized-part" ]; then
+  # Its own scheduling group at the lowest weight, where the kernel groups processes by
+  # session (autogroup, as root): the lower priority below then holds against the cluster
+  # tests' processes in other groups too.
+  echo 19 >/proc/self/autogroup 2>/dev/null || true
+  sanitized_part "$2"
+  exit 0
+fi
+
 bash scripts/setup.sh
 
-build_rc=0
-run_part "build-sanitize/ (AddressSanitizer, UndefinedBehaviorSanitizer, CUDA backend emulated)" \
-  sanitized_build || build_rc=$?
-sanitize_rc=$build_rc
-emulate_rc=$build_rc
-if [ "$build_rc" -eq 0 ]; then
-  run_part "CUDA backend emulated on the CPU (build-sanitize/capsim selftest --backend cuda)" \
-    emulated_device_selftest || emulate_rc=$?
-  run_part "C++ suite under AddressSanitizer and UndefinedBehaviorSanitizer (build-sanitize/)" \
-    sanitized_suite || sanitize_rc=$?
-fi
-ctest_rc=0
-run_part "C++ suite (ctest)" ctest_suite build || ctest_rc=$?
+# The sanitized part runs in the background from here, beside the cluster tests, which
+# mostly wait for SLURM (on 2 cores they kept 63 % of them busy: docs/reliability.md), at
+# the lowest priority: SCHED_IDLE and niceness 19, in a session of its own. It takes the
+# cores the others leave, so the SLURM jobs and the SLURM workflow, itself at niceness 19,
+# keep theirs. Its report is printed after the plain C++ suite; nothing before reads
+# build-sanitize/.
+sanitized_log=$(mktemp)
+sanitized_rcs=$(mktemp)
+echo "1 1" >"$sanitized_rcs"
+setsid -w nice -n 19 chrt --idle 0 bash "$ROOT/scripts/test.sh" --sanitized-part "$sanitized_rcs" \
+  >"$sanitized_log" 2>&1 &
+sanitized_pid=$!
+
 # The cluster tests (test_slurm.py, and test_workflow_ci.py, whose local ci workflow
 # test_slurm.py compares with): the SLURM profile on a one-node SLURM that test_slurm.py
 # starts on this machine (as root) and stops again; they fail, saying why, where the
 # daemons cannot start (not root, not installed, a slurm.conf of the machine's own). Exit
-# code 5 (no tests collected) counts as a failure like any other non-zero code. They run
-# alone: their SLURM workflow runs at niceness 19 (test_slurm.py), and beside the C++
-# suites the SLURM plugin did not read MinJobAge within its 10 s (`scontrol show config`),
-# fell back to sacct, which has no database here, and the workflow hung until the test's
-# 900 s limit (docs/reliability.md).
+# code 5 (no tests collected) counts as a failure like any other non-zero code. Nothing
+# but the sanitized part at its lowest priority runs beside them: their SLURM workflow
+# runs at niceness 19 (test_slurm.py), and beside the C++ suites at niceness 0 the SLURM
+# plugin did not read MinJobAge within its 10 s (`scontrol show config`), fell back to
+# sacct, which has no database here, and the workflow hung until the test's 900 s limit
+# (docs/reliability.md).
 CLUSTER_TESTS=(tests/python/test_slurm.py tests/python/test_workflow_ci.py)
 cluster_rc=0
 run_part "Python cluster tests (${CLUSTER_TESTS[*]})" \
   .venv/bin/python -m pytest "${CLUSTER_TESTS[@]}" -q --durations=5 || cluster_rc=$?
+ctest_rc=0
+run_part "C++ suite (ctest)" ctest_suite build || ctest_rc=$?
+wait "$sanitized_pid" || true
+cat "$sanitized_log"
+read -r emulate_rc sanitize_rc <"$sanitized_rcs"
+rm -f "$sanitized_log" "$sanitized_rcs"
 # The rest of the Python suite on $JOBS workers (pytest-xdist; --dist loadfile: a file's
 # tests on one worker, so its module fixtures are made once); the slowest tests' times
 # are listed before the summary.
