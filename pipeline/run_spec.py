@@ -36,6 +36,7 @@ import math
 import subprocess
 from pathlib import Path
 
+from analysis import bending_limit
 from analysis import membrane as membrane_codes
 from analysis.accuracy import time_options
 from pipeline.command_line import option_value, resume_command, run_command, set_arguments
@@ -427,6 +428,28 @@ def point_t_ends(block, key):
         return {}
     return membrane_codes.study_points(block["t_end_at"], block["ca"], block["phi"], key,
                                        longer)
+
+
+def eblimit_grid_block(grid_block, eblimit_block):
+    """The grid block as the runs of the limit eb -> 0 (config eblimit) take it: at a
+    point that `eblimit.t_end_at` lists ({ca, phi, t_end}) their own t_end, elsewhere the
+    grid's (grid.t_end_at). The run at half the modulus weighs twice the grid's run in
+    the extrapolation 2 f(eb/2) - f(eb) (analysis/bending_limit.py) and costs less a
+    strain unit, so for one standard error it pays to run it longer
+    (docs/suspensions.md). A point without bending, or one listed twice or below the
+    grid's t_end, raises ValueError naming eblimit.t_end_at."""
+    own = eblimit_block.get("t_end_at") or []
+    if not own:
+        return grid_block
+    ends = point_t_ends({**grid_block, "t_end_at": own}, "eblimit.t_end_at")
+    bending = [(p.ca, p.phi) for p in bending_limit.points(grid_block)]
+    for ca, phi in ends:
+        if not any(math.isclose(ca, c) and math.isclose(phi, f) for c, f in bending):
+            raise ValueError(f"eblimit.t_end_at: Ca {ca:g}, phi {phi:g} carries no bending "
+                             "(grid.membranes), so the limit eb -> 0 has no runs there")
+    kept = [entry for entry in grid_block.get("t_end_at", [])
+            if (float(entry["ca"]), float(entry["phi"])) not in ends]
+    return {**grid_block, "t_end_at": kept + list(own)}
 
 
 def suspension(study, keys, block, averages_start, run_options):

@@ -5,6 +5,7 @@ checks need build/capsim (`capsim params --json`) and are skipped without it."""
 
 import dataclasses
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -143,6 +144,44 @@ def test_a_grid_point_of_t_end_at_runs_longer_in_every_study_that_runs_it():
         entries = [bad] + ([bad] if says == "listed twice" else [])
         with pytest.raises(ValueError, match=f"grid.t_end_at: .*{says}"):
             run_spec.point_t_ends({**grid, "t_end_at": entries}, "grid.t_end_at")
+
+
+def test_eblimit_t_end_at_lengthens_the_limit_s_runs_of_a_point_and_not_the_grid_s():
+    grid = {"ca": [0.3, 0.4], "phi": [0.1, 0.4], "t_end": 30,
+            "membranes": [{"ca": 0.3, "phi": 0.4, "membrane": "eb0.025+rep5"}],
+            "t_end_at": [{"ca": 0.3, "phi": 0.4, "t_end": 55},
+                         {"ca": 0.3, "phi": 0.1, "t_end": 110}]}
+    keys = {"ca": 0.3, "phi": 0.4, "M": 27, "level": 3, "seed": 1}
+    limit = run_spec.eblimit_grid_block(
+        grid, {"eb": [0.0125], "t_end_at": [{"ca": 0.3, "phi": 0.4, "t_end": 110}]})
+    half = {**keys, "membrane": "eb0.0125+rep5"}
+    assert run_spec.suspension("eblimit", half, limit, 10, {}).t_end == 110
+    assert run_spec.suspension("grid", {**keys, "membrane": "eb0.025+rep5"}, grid, 10,
+                               {}).t_end == 55
+    # The grid's other points keep theirs; without the key the grid block is the limit's.
+    assert run_spec.point_t_ends(limit, "t_end_at")[(0.3, 0.1)] == 110
+    assert run_spec.eblimit_grid_block(grid, {"eb": [0.0125]}) is grid
+    for bad, says in [({"ca": 0.3, "phi": 0.1, "t_end": 70}, "carries no bending"),
+                      ({"ca": 0.5, "phi": 0.4, "t_end": 70}, "not a point of the study"),
+                      ({"ca": 0.3, "phi": 0.4, "t_end": 20}, "below the study's 30")]:
+        with pytest.raises(ValueError, match=f"eblimit.t_end_at: .*{says}"):
+            run_spec.eblimit_grid_block(grid, {"eb": [0.0125], "t_end_at": [bad]})
+
+
+@needs_capsim
+def test_eblimit_t_end_at_in_the_quantitative_plan_runs_only_the_limit_s_run(tmp_path):
+    # The workflow takes it: over the archive, only the run at half the modulus of the
+    # point is planned, to the longer t_end, and the grid's run of the point is restored.
+    from conftest import run_snakemake
+    point = {"ca": 0.3, "phi": 0.4, "t_end": 400}
+    (tmp_path / "longer.yaml").write_text(yaml.safe_dump({"eblimit": {"t_end_at": [point]}}))
+    proc = run_snakemake(tmp_path, "all", "-n", configfile="quantitative.yaml",
+                         extra=["--configfile", str(ROOT / "config" / "quantitative.yaml"),
+                                str(tmp_path / "longer.yaml")])
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    assert "main studies: 1 of 87 runs to compute" in proc.stderr
+    planned = set(re.findall(r"wildcards: study=(\w+), run=([\w.+]+)", proc.stdout))
+    assert planned == {("eblimit", "ca0.3_phi0.4_M27_level3_seed1_eb0.0125+rep5")}
 
 
 def test_the_cost_model_s_imex_at_the_bending_points_against_their_measurement():

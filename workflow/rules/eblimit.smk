@@ -11,6 +11,8 @@ import json
 from analysis import bending_limit
 
 EBLIMIT = config.get("eblimit")
+# The grid block with the limit's own longer runs (eblimit.t_end_at) in its t_end_at.
+EBLIMIT_GRID = run_spec.eblimit_grid_block(GRID, EBLIMIT) if EBLIMIT else GRID
 
 
 def eblimit_runs():
@@ -25,7 +27,8 @@ def eblimit_runs():
             keys = dict(ca=point.ca, phi=point.phi, M=GRID["capsules"], level=level,
                         seed=GRID["seeds"][0], membrane=point.at(eb))
             spec = run_owner("grid", **keys) if eb == point.eb else run_spec.suspension(
-                "eblimit", keys, GRID, config["averages"]["t_start"], config["run_options"])
+                "eblimit", keys, EBLIMIT_GRID, config["averages"]["t_start"],
+                config["run_options"])
             out.append(({"case": "suspension", "ca": point.ca, "phi": point.phi, "eb": eb,
                          "folder": spec.folder}, spec))
     for ca, eb in bending_limit.dilute_cases(EBLIMIT, GRID):
