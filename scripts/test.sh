@@ -138,6 +138,8 @@ echo "1 1" >"$sanitized_rcs"
 setsid -w nice -n 19 chrt --idle 0 bash "$ROOT/scripts/test.sh" --sanitized-part "$sanitized_rcs" \
   >"$sanitized_log" 2>&1 &
 sanitized_pid=$!
+# Interrupted, the script takes it down too (its session's process group).
+trap 'kill -- -"$sanitized_pid" 2>/dev/null || true' EXIT
 
 # The cluster tests (test_slurm.py, and test_workflow_ci.py, whose local ci workflow
 # test_slurm.py compares with): the SLURM profile on a one-node SLURM that test_slurm.py
