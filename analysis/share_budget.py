@@ -15,7 +15,8 @@ With --target, the plan to reach it: per Ca, the t_end to which the runs the sha
 error to be SE, if each run's statistical error falls as the square root of its window
 [t_start, t_end]. At a point extrapolated to eb -> 0 the extrapolation's model part
 (`<key>_model` of the eblimit table, analysis.bending_limit) does not fall with the window:
-it sets a floor, below which no run length brings the share ("floor").
+it sets a floor, below which no run length brings the share ("floor"); the two runs of
+such a point each fall from their own window (eblimit.t_end_at may lengthen one).
 """
 
 import argparse
@@ -27,6 +28,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import brentq
 
+from analysis import membrane
 from analysis.coefficients import coefficient_table
 from analysis.fits import FIT_PHI_MAX
 from analysis.statistics import propagated_standard_error
@@ -70,6 +72,30 @@ def model_parts(eblimit, key="mu_sp"):
             for _, r in eblimit.iterrows()}
 
 
+def pair_runs(eblimit, key="mu_sp"):
+    """{(ca, phi): [(weight, standard error, t_end) of each run]} of the points of an
+    eblimit table extrapolated through two moduli: the weight of each run in the line's
+    value at eb = 0, the grid's run's statistical error (`<key>_eb_se`) and the other's,
+    what the limit's statistical error (the model part taken out) leaves of it. Their
+    windows may differ (eblimit.t_end_at), so lengthened() takes each run on its own;
+    points of three moduli are left out (their rows scale as one run)."""
+    out = {}
+    for _, r in (eblimit.iterrows() if eblimit is not None else []):
+        eb = [float(x) for x in str(r.moduli).split()]
+        if len(eb) != 2 or not np.isfinite(r[key]):
+            continue
+        t_end = [float(x) for x in str(r.t_end).split()]
+        weight = [eb[1] / (eb[1] - eb[0]), -eb[0] / (eb[1] - eb[0])]
+        grid = eb.index(membrane.parse(r.membrane, "grid.membranes")["eb"])
+        stat2 = max(r[key + "_se"] ** 2 - r[key + "_model"] ** 2, 0.0)
+        se = [0.0, 0.0]
+        se[grid] = r[key + "_eb_se"]
+        se[1 - grid] = np.sqrt(max(stat2 - (weight[grid] * se[grid]) ** 2, 0.0)) \
+            / abs(weight[1 - grid])
+        out[(r.ca, round(r.phi, 9))] = list(zip(weight, se, t_end))
+    return out
+
+
 def share_rows(table, ca, phi, phi_max=FIT_PHI_MAX):
     """The index of the suspension rows of `ca` that the share at phi reads: those that fit
     c2 (0 < phi <= phi_max) and the one at phi."""
@@ -78,20 +104,27 @@ def share_rows(table, ca, phi, phi_max=FIT_PHI_MAX):
     return rows.index[keep]
 
 
-def lengthened(table, ca, phi, t_end, model, key="mu_sp", phi_max=FIT_PHI_MAX):
+def lengthened(table, ca, phi, t_end, model, key="mu_sp", phi_max=FIT_PHI_MAX,
+               runs=None):
     """The grid table with each run the share at (ca, phi) reads taken to t_end (none
     shortened): its statistical standard error (the model part taken out in quadrature)
-    times sqrt(window now / window at t_end); t_end = inf leaves the model parts alone."""
+    times sqrt(window now / window at t_end); t_end = inf leaves the model parts alone.
+    A point of `runs` (pair_runs()) takes each of its runs so, on its own window."""
     out = table.copy()
     for i in share_rows(table, ca, phi, phi_max):
         row = out.loc[i]
         if not t_end > row.t_end:
             continue
-        fixed = model.get((row.ca, round(row.phi, 9)), 0.0)
-        stat = np.sqrt(max(row[key + "_se"] ** 2 - fixed**2, 0.0))
-        window = row.t_end - row.t_start
-        ratio = 0.0 if np.isinf(t_end) else window / (t_end - row.t_start)
-        out.loc[i, key + "_se"] = np.hypot(stat * np.sqrt(ratio), fixed)
+        at = (row.ca, round(row.phi, 9))
+        fixed = model.get(at, 0.0)
+        parts = (runs or {}).get(at) or [
+            (1.0, np.sqrt(max(row[key + "_se"] ** 2 - fixed**2, 0.0)), row.t_end)]
+        var = 0.0
+        for weight, se, t in parts:
+            ratio = 1.0 if not t_end > t else (
+                0.0 if np.isinf(t_end) else (t - row.t_start) / (t_end - row.t_start))
+            var += (weight * se) ** 2 * ratio
+        out.loc[i, key + "_se"] = np.hypot(np.sqrt(var), fixed)
         out.loc[i, "t_end"] = t_end
     return out
 
@@ -102,7 +135,7 @@ def share_se(table, ca, phi, key="mu_sp", phi_max=FIT_PHI_MAX):
     return float(rows[np.isclose(rows.ca, ca)].se.iloc[0])
 
 
-def plan(table, phi, target, model, key="mu_sp", phi_max=FIT_PHI_MAX):
+def plan(table, phi, target, model, key="mu_sp", phi_max=FIT_PHI_MAX, runs=None):
     """Per Ca: the share's standard error now, its floor (every run the share reads
     unbounded), the t_end that brings it to `target` (runs already longer kept as they
     are; the shortest run's t_end where it is met, inf where the floor is above it) and
@@ -114,8 +147,8 @@ def plan(table, phi, target, model, key="mu_sp", phi_max=FIT_PHI_MAX):
         start = float(rows.t_end.min())  # lengthened() leaves the table as it is
 
         def se_at(t):
-            return share_se(lengthened(table, ca, phi, t, model, key, phi_max), ca, phi,
-                            key, phi_max)
+            return share_se(lengthened(table, ca, phi, t, model, key, phi_max, runs), ca,
+                            phi, key, phi_max)
         now, floor = se_at(start), se_at(np.inf)
         if now <= target:
             t_needed = start
@@ -152,8 +185,9 @@ def main(argv=None):
         if not args.target > 0:
             ap.error(f"--target must be > 0, got {args.target}")
         eblimit = args.eblimit or args.grid.parent / "eblimit" / "table.csv"
-        model = model_parts(pd.read_csv(eblimit) if eblimit.exists() else None, args.key)
-        rows = plan(table, args.phi, args.target, model, args.key)
+        limits = pd.read_csv(eblimit) if eblimit.exists() else None
+        rows = plan(table, args.phi, args.target, model_parts(limits, args.key), args.key,
+                    runs=pair_runs(limits, args.key))
     print(rows.to_string(index=False, float_format="%.4g"))
     return 0
 

@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.share_budget import budget, lengthened, plan, share_se
+from analysis.share_budget import budget, lengthened, pair_runs, plan, share_se
 
 
 def test_each_input_alone_and_all_together_follow_the_delta_method():
@@ -72,3 +72,27 @@ def test_a_target_already_met_needs_no_longer_run():
     table = _grid(se_low=1e-5, se_high=1e-4)
     row = plan(table, 0.4, 0.01, {}).iloc[0]
     assert row.t_end_needed == 30.0 and row.stopped == ""
+
+
+def test_the_runs_of_an_extrapolated_pair_are_lengthened_each_on_its_own_window():
+    # The limit 2 f(0.0125) - f(0.025): the grid's run (eb 0.025) to 55 with error 0.02,
+    # the other to 100 with 0.01, a model part 0.005 (eblimit.t_end_at).
+    stat = np.hypot(2 * 0.01, 0.02)
+    limits = pd.DataFrame([{"ca": 0.3, "phi": 0.4, "membrane": "eb0.025+rep5",
+                            "moduli": "0.0125 0.025", "t_end": "100 55", "mu_sp": 1.0,
+                            "mu_sp_se": np.hypot(stat, 0.005), "mu_sp_eb_se": 0.02,
+                            "mu_sp_model": 0.005}])
+    runs = pair_runs(limits)
+    assert runs[(0.3, 0.4)] == [pytest.approx((2.0, 0.01, 100.0)),
+                                pytest.approx((-1.0, 0.02, 55.0))]
+    table = _grid()
+    table.loc[3, ["mu_sp_se", "t_end"]] = limits.mu_sp_se[0], 55.0
+    model = {(0.3, 0.4): 0.005}
+    for t_end, var in [(190.0, 4e-4 * 90 / 180 + 4e-4 * 45 / 180),  # both lengthened
+                       (80.0, 4e-4 + 4e-4 * 45 / 70)]:  # the longer run kept as it is
+        longer = lengthened(table, 0.3, 0.4, t_end, model, runs=runs)
+        assert longer.loc[3, "mu_sp_se"] == pytest.approx(np.hypot(np.sqrt(var), 0.005),
+                                                          rel=1e-12)
+    # As one run from the shorter window, the error at 190 would be too small.
+    alone = lengthened(table, 0.3, 0.4, 190.0, model).loc[3, "mu_sp_se"]
+    assert alone < np.hypot(np.sqrt(4e-4 * 90 / 180 + 4e-4 * 45 / 180), 0.005)
