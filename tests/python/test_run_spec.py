@@ -174,7 +174,8 @@ def test_eblimit_t_end_at_in_the_quantitative_plan_runs_only_the_limit_s_run(tmp
     # point is planned, to the longer t_end, and the grid's run of the point is restored.
     from conftest import run_snakemake
     point = {"ca": 0.3, "phi": 0.4, "t_end": 400}
-    (tmp_path / "longer.yaml").write_text(yaml.safe_dump({"eblimit": {"t_end_at": [point]}}))
+    longer = {"eblimit": {"t_end_at": [point]}}
+    (tmp_path / "longer.yaml").write_text(yaml.safe_dump(longer))
     proc = run_snakemake(tmp_path, "all", "-n", configfile="quantitative.yaml",
                          extra=["--configfile", str(ROOT / "config" / "quantitative.yaml"),
                                 str(tmp_path / "longer.yaml")])
