@@ -117,7 +117,7 @@ sanitized_part() {
 
 if [ "${1:-}" = "--sanitized-part" ]; then
   # Its own scheduling group at the lowest weight, where the kernel groups processes by
-  # session (autogroup, as root): the lower priority below then holds against the cluster
+  # setsid (autogroup, as root): the lower priority below then holds against the cluster
   # tests' processes in other groups too.
   echo 19 >/proc/self/autogroup 2>/dev/null || true
   sanitized_part "$2"
@@ -128,17 +128,17 @@ bash scripts/setup.sh
 
 # The sanitized part runs in the background from here, beside the cluster tests, which
 # mostly wait for SLURM (on 2 cores they kept 63 % of them busy: docs/reliability.md), at
-# the lowest priority: SCHED_IDLE and niceness 19, in a session of its own. It takes the
-# cores the others leave, so the SLURM jobs and the SLURM workflow, itself at niceness 19,
-# keep theirs. Its report is printed after the plain C++ suite; nothing before reads
-# build-sanitize/.
+# the lowest priority: SCHED_IDLE and niceness 19, under setsid in a group of its own. It
+# takes the cores the others leave, so the SLURM jobs and the SLURM workflow, itself at
+# niceness 19, keep theirs. Its report is printed after the plain C++ suite; nothing
+# before reads build-sanitize/.
 sanitized_log=$(mktemp)
 sanitized_rcs=$(mktemp)
 echo "1 1" >"$sanitized_rcs"
 setsid -w nice -n 19 chrt --idle 0 bash "$ROOT/scripts/test.sh" --sanitized-part "$sanitized_rcs" \
   >"$sanitized_log" 2>&1 &
 sanitized_pid=$!
-# Interrupted, the script takes it down too (its session's process group).
+# Interrupted, the script takes it down too (the process group setsid gave it).
 trap 'kill -- -"$sanitized_pid" 2>/dev/null || true' EXIT
 
 # The cluster tests (test_slurm.py, and test_workflow_ci.py, whose local ci workflow

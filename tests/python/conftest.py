@@ -37,7 +37,7 @@ def run_snakemake(workdir, *targets, configfile="ci.yaml", extra=(), timeout=600
     return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def ci_workflow(tmp_path_factory):
     """The whole workflow on the ci configuration (`all check`) in a new working
     directory, made once for the tests that read it (test_workflow_ci.py, and
